@@ -1,0 +1,25 @@
+# Every third-party dependency, found once. Debian 12 packages; see README "Dependencies".
+
+find_package(Threads REQUIRED)
+find_package(Protobuf REQUIRED)
+find_package(OpenSSL REQUIRED)          # SHA-256 for cache keys and artifact checksums
+find_package(spdlog REQUIRED)
+find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache keys
+find_package(CLI11 REQUIRED)
+find_package(Eigen3 REQUIRED NO_MODULE)
+
+set(OpenGL_GL_PREFERENCE GLVND)
+find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
+
+find_package(OpenImageIO REQUIRED)
+# Debian 12's OpenImageIO config lists /usr/include/opencv4 as an include directory
+# although OpenCV is an optional dependency; drop it rather than install OpenCV.
+get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+if(_oiio_includes)
+  list(FILTER _oiio_includes EXCLUDE REGEX "opencv")
+  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_includes}")
+endif()
+
+if(LOOM_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()

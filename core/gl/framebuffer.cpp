@@ -1,0 +1,87 @@
+#include "core/gl/framebuffer.h"
+
+#include <algorithm>
+#include <string>
+
+#include "core/util/error.h"
+
+namespace loom::gl {
+
+Framebuffer::Target Framebuffer::MakeTarget(int width, int height, int samples, bool with_depth) {
+  Target target;
+  glCreateFramebuffers(1, &target.framebuffer);
+  glCreateRenderbuffers(1, &target.colour);
+  if (samples > 1) glNamedRenderbufferStorageMultisample(target.colour, samples, GL_RGBA32F, width, height);
+  else glNamedRenderbufferStorage(target.colour, GL_RGBA32F, width, height);
+  glNamedFramebufferRenderbuffer(target.framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, target.colour);
+  if (with_depth) {
+    glCreateRenderbuffers(1, &target.depth);
+    if (samples > 1) glNamedRenderbufferStorageMultisample(target.depth, samples, GL_DEPTH_COMPONENT24, width, height);
+    else glNamedRenderbufferStorage(target.depth, GL_DEPTH_COMPONENT24, width, height);
+    glNamedFramebufferRenderbuffer(target.framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, target.depth);
+  }
+  const GLenum status = glCheckNamedFramebufferStatus(target.framebuffer, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    Destroy(target);
+    throw Error(ErrorCode::kInternal, "framebuffer " + std::to_string(width) + "x" + std::to_string(height) +
+                                          " with " + std::to_string(samples) +
+                                          " samples is incomplete (status 0x" + std::to_string(status) + ")");
+  }
+  return target;
+}
+
+void Framebuffer::Destroy(Target& target) {
+  if (target.colour) glDeleteRenderbuffers(1, &target.colour);
+  if (target.depth) glDeleteRenderbuffers(1, &target.depth);
+  if (target.framebuffer) glDeleteFramebuffers(1, &target.framebuffer);
+  target = Target{};
+}
+
+Framebuffer::Framebuffer(int width, int height, int samples)
+    : width_(width), height_(height), samples_(samples < 1 ? 1 : samples) {
+  draw_ = MakeTarget(width_, height_, samples_, /*with_depth=*/true);
+  if (samples_ > 1) {
+    try {
+      resolve_ = MakeTarget(width_, height_, 1, /*with_depth=*/false);
+    } catch (...) {
+      Destroy(draw_);
+      throw;
+    }
+  }
+}
+
+Framebuffer::~Framebuffer() {
+  Destroy(draw_);
+  Destroy(resolve_);
+}
+
+void Framebuffer::Bind() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_.framebuffer);
+  glViewport(0, 0, width_, height_);
+}
+
+Image Framebuffer::ReadPixels() const {
+  GLuint source = draw_.framebuffer;
+  if (samples_ > 1) {
+    glBlitNamedFramebuffer(draw_.framebuffer, resolve_.framebuffer, 0, 0, width_, height_, 0, 0, width_,
+                           height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    source = resolve_.framebuffer;
+  }
+  Image bottom_up(width_, height_, 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, source);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, bottom_up.pixels.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+
+  // GL's origin is the bottom-left corner; images are stored top row first.
+  Image image(width_, height_, 4);
+  const size_t row = static_cast<size_t>(width_) * 4;
+  for (int y = 0; y < height_; ++y) {
+    std::copy_n(bottom_up.pixels.begin() + static_cast<ptrdiff_t>(row * (height_ - 1 - y)), row,
+                image.pixels.begin() + static_cast<ptrdiff_t>(row * y));
+  }
+  return image;
+}
+
+}  // namespace loom::gl

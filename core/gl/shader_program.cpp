@@ -1,0 +1,132 @@
+#include "core/gl/shader_program.h"
+
+#include <glm/gtc/type_ptr.hpp>
+#include <algorithm>
+#include <cstring>
+#include <regex>
+#include <sstream>
+
+#include "core/gl/shader_sources.h"
+#include "core/util/error.h"
+
+namespace loom::gl {
+namespace {
+
+std::string InfoLog(GLuint object, bool is_program) {
+  GLint length = 0;
+  if (is_program) glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length);
+  else glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
+  if (is_program) glGetProgramInfoLog(object, length, nullptr, log.data());
+  else glGetShaderInfoLog(object, length, nullptr, log.data());
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+
+GLuint Compile(const ShaderStage& stage) {
+  const GLuint shader = glCreateShader(stage.type);
+  const char* text = stage.text.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    const std::string log = InfoLog(shader, false);
+    glDeleteShader(shader);
+    throw Error(ErrorCode::kInternal, "shader " + stage.name + " failed to compile:\n" +
+                                          AnnotateShaderLog(log, stage.name));
+  }
+  return shader;
+}
+
+std::string_view FindEmbedded(const std::string& name) {
+  for (const ShaderSource& source : EmbeddedShaders()) {
+    if (source.name == name) return source.text;
+  }
+  throw Error(ErrorCode::kInternal, "no embedded shader named " + name + " (is it in core/shaders/?)");
+}
+
+}  // namespace
+
+std::string AnnotateShaderLog(std::string_view log, std::string_view file) {
+  // Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error C0000: ...".
+  static const std::regex kMesa(R"(^\s*\d+:(\d+)\(\d+\):\s*(.*)$)");
+  static const std::regex kNvidia(R"(^\s*\d+\((\d+)\)\s*:\s*(.*)$)");
+  std::istringstream lines{std::string(log)};
+  std::string line, annotated;
+  while (std::getline(lines, line)) {
+    if (line.empty()) continue;
+    std::smatch match;
+    if (std::regex_match(line, match, kMesa) || std::regex_match(line, match, kNvidia)) {
+      annotated += std::string(file) + ":" + match[1].str() + ": " + match[2].str() + "\n";
+    } else {
+      annotated += std::string(file) + ": " + line + "\n";
+    }
+  }
+  return annotated;
+}
+
+ShaderProgram ShaderProgram::Link(const std::vector<ShaderStage>& stages) {
+  std::vector<GLuint> shaders;
+  try {
+    for (const ShaderStage& stage : stages) shaders.push_back(Compile(stage));
+  } catch (...) {
+    for (GLuint shader : shaders) glDeleteShader(shader);
+    throw;
+  }
+  const GLuint program = glCreateProgram();
+  for (GLuint shader : shaders) glAttachShader(program, shader);
+  glLinkProgram(program);
+  for (GLuint shader : shaders) glDeleteShader(shader);
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::string names;
+    for (const ShaderStage& stage : stages) names += (names.empty() ? "" : " + ") + stage.name;
+    const std::string log = InfoLog(program, true);
+    glDeleteProgram(program);
+    throw Error(ErrorCode::kInternal, "shader program " + names + " failed to link:\n" + log);
+  }
+  return ShaderProgram(program);
+}
+
+ShaderProgram ShaderProgram::FromEmbedded(std::string_view base) {
+  const std::string vertex = std::string(base) + ".vert";
+  const std::string fragment = std::string(base) + ".frag";
+  return Link({{GL_VERTEX_SHADER, vertex, std::string(FindEmbedded(vertex))},
+               {GL_FRAGMENT_SHADER, fragment, std::string(FindEmbedded(fragment))}});
+}
+
+ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {
+  if (this != &other) {
+    if (program_ != 0) glDeleteProgram(program_);
+    program_ = other.program_;
+    other.program_ = 0;
+  }
+  return *this;
+}
+
+ShaderProgram::~ShaderProgram() {
+  if (program_ != 0) glDeleteProgram(program_);
+}
+
+void ShaderProgram::Set(const char* name, float value) const {
+  glProgramUniform1f(program_, glGetUniformLocation(program_, name), value);
+}
+void ShaderProgram::Set(const char* name, int value) const {
+  glProgramUniform1i(program_, glGetUniformLocation(program_, name), value);
+}
+void ShaderProgram::Set(const char* name, const glm::vec3& value) const {
+  glProgramUniform3fv(program_, glGetUniformLocation(program_, name), 1, glm::value_ptr(value));
+}
+void ShaderProgram::Set(const char* name, const glm::vec4& value) const {
+  glProgramUniform4fv(program_, glGetUniformLocation(program_, name), 1, glm::value_ptr(value));
+}
+void ShaderProgram::Set(const char* name, const glm::mat3& value) const {
+  glProgramUniformMatrix3fv(program_, glGetUniformLocation(program_, name), 1, GL_FALSE, glm::value_ptr(value));
+}
+void ShaderProgram::Set(const char* name, const glm::mat4& value) const {
+  glProgramUniformMatrix4fv(program_, glGetUniformLocation(program_, name), 1, GL_FALSE, glm::value_ptr(value));
+}
+
+}  // namespace loom::gl

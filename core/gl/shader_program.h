@@ -1,0 +1,53 @@
+#pragma once
+// A linked GLSL program. Compile and link errors throw Error(kInternal) with every
+// driver message rewritten as "<file>:<line>: <message>", so a broken shader names
+// its own file and line on Mesa and NVIDIA alike.
+
+#include <GL/glcorearb.h>
+
+#include <glm/glm.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace loom::gl {
+
+struct ShaderStage {
+  GLenum type;       // GL_VERTEX_SHADER, GL_FRAGMENT_SHADER, ...
+  std::string name;  // file name used in error messages
+  std::string text;
+};
+
+class ShaderProgram {
+ public:
+  static ShaderProgram Link(const std::vector<ShaderStage>& stages);
+  // Links "<base>.vert" and "<base>.frag" from the embedded shaders.
+  static ShaderProgram FromEmbedded(std::string_view base);
+
+  ShaderProgram(ShaderProgram&& other) noexcept : program_(other.program_) { other.program_ = 0; }
+  ShaderProgram& operator=(ShaderProgram&& other) noexcept;
+  ShaderProgram(const ShaderProgram&) = delete;
+  ShaderProgram& operator=(const ShaderProgram&) = delete;
+  ~ShaderProgram();
+
+  void Use() const { glUseProgram(program_); }
+  GLuint id() const { return program_; }
+
+  // Setters for the current program; an unknown (or optimised-away) uniform is ignored.
+  void Set(const char* name, float value) const;
+  void Set(const char* name, int value) const;
+  void Set(const char* name, const glm::vec3& value) const;
+  void Set(const char* name, const glm::vec4& value) const;
+  void Set(const char* name, const glm::mat3& value) const;
+  void Set(const char* name, const glm::mat4& value) const;
+
+ private:
+  explicit ShaderProgram(GLuint program) : program_(program) {}
+  GLuint program_ = 0;
+};
+
+// Rewrites a driver info log so each line reads "<file>:<line>: <message>".
+// Understands Mesa ("0:12(5): error: ...") and NVIDIA ("0(12) : error C0000: ...").
+std::string AnnotateShaderLog(std::string_view log, std::string_view file);
+
+}  // namespace loom::gl

@@ -1,0 +1,198 @@
+#include "core/spec/defaults.h"
+
+#include <numeric>
+
+namespace loom {
+namespace {
+
+// PrecomputeSettings.
+constexpr uint32_t kDefaultSpatialResolution = 32;
+constexpr uint32_t kDefaultDirections = 64;  // an 8×8 grid, views and lights alike
+constexpr uint32_t kDefaultLobes = 2;
+constexpr float kDefaultLutChangeThreshold = 0.1f;
+constexpr uint32_t kDefaultMaxAlternations = 8;
+constexpr uint32_t kDefaultMaxLmIterations = 50;
+constexpr uint32_t kDefaultIndirectBounces = 1;
+constexpr uint32_t kDefaultSupersampling = 2;  // 2×2 rays per texel
+
+// FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
+constexpr float kDefaultKnitYarnRadius = 0.15f;
+constexpr float kDefaultWovenYarnRadius = 0.25f;
+constexpr uint32_t kDefaultPlies = 1;
+constexpr float kDefaultRoughness = 0.5f;
+constexpr float kDefaultDiffuseAlbedo = 0.5f;
+constexpr float kDefaultSpecularAlbedo = 0.04f;  // a dielectric fibre at normal incidence
+constexpr uint32_t kDefaultRibWidth = 1;
+constexpr float kDefaultLoopAspect = 1.25f;
+constexpr uint32_t kDefaultTwillOver = 2;
+constexpr uint32_t kDefaultTwillUnder = 1;
+constexpr uint32_t kDefaultSatinRepeat = 5;
+constexpr uint32_t kDefaultBasketGroup = 2;
+constexpr float kDefaultInclinationDegrees = 20.0f;
+
+// RenderSettings.
+constexpr uint32_t kDefaultWidth = 960;
+constexpr uint32_t kDefaultHeight = 540;
+constexpr uint32_t kDefaultMsaaSamples = 4;
+constexpr uint32_t kDefaultShadowMapSize = 2048;
+constexpr uint32_t kDefaultReferenceSamples = 64;
+
+// SceneSpec.
+constexpr float kDefaultRepeat = 1.0f;
+constexpr float kDefaultFovYDegrees = 40.0f;
+constexpr float kDefaultOrthoHeight = 2.0f;
+constexpr float kDefaultNear = 0.01f;
+constexpr float kDefaultFar = 100.0f;
+constexpr float kDefaultLightIntensity = 1.0f;
+
+void SetGrey(v1::Rgb* rgb, float value) {
+  rgb->set_r(value);
+  rgb->set_g(value);
+  rgb->set_b(value);
+}
+
+bool IsZero(const v1::Vec3& v) { return v.x() == 0 && v.y() == 0 && v.z() == 0; }
+
+void SetVec3(v1::Vec3* v, float x, float y, float z) {
+  v->set_x(x);
+  v->set_y(y);
+  v->set_z(z);
+}
+
+void ApplyYarnDefaults(v1::YarnSpec& yarn, float default_radius) {
+  if (yarn.radius() == 0) yarn.set_radius(default_radius);
+  if (yarn.plies() == 0) yarn.set_plies(kDefaultPlies);
+  if (yarn.roughness() == 0) yarn.set_roughness(kDefaultRoughness);
+  if (!yarn.has_diffuse_albedo()) SetGrey(yarn.mutable_diffuse_albedo(), kDefaultDiffuseAlbedo);
+  if (!yarn.has_specular_albedo()) SetGrey(yarn.mutable_specular_albedo(), kDefaultSpecularAlbedo);
+}
+
+void ApplyKnitDefaults(v1::KnitSpec& knit) {
+  if (knit.pattern() == v1::KNIT_PATTERN_UNSPECIFIED) knit.set_pattern(v1::KNIT_PATTERN_STOCKINETTE);
+  if (knit.pattern() == v1::KNIT_PATTERN_RIB) {
+    if (knit.rib_knit() == 0) knit.set_rib_knit(kDefaultRibWidth);
+    if (knit.rib_purl() == 0) knit.set_rib_purl(kDefaultRibWidth);
+  }
+  const KnitRepeat repeat = KnitPatternRepeat(knit);
+  if (knit.wales() == 0) knit.set_wales(repeat.wales);
+  if (knit.courses() == 0) knit.set_courses(repeat.courses);
+  if (knit.loop_aspect() == 0) knit.set_loop_aspect(kDefaultLoopAspect);
+}
+
+void ApplyWovenDefaults(v1::WovenSpec& woven) {
+  if (woven.pattern() == v1::WEAVE_PATTERN_UNSPECIFIED) woven.set_pattern(v1::WEAVE_PATTERN_PLAIN);
+  switch (woven.pattern()) {
+    case v1::WEAVE_PATTERN_TWILL:
+      if (woven.n() == 0) woven.set_n(kDefaultTwillOver);
+      if (woven.m() == 0) woven.set_m(kDefaultTwillUnder);
+      break;
+    case v1::WEAVE_PATTERN_SATIN:
+      if (woven.n() == 0) woven.set_n(kDefaultSatinRepeat);
+      if (woven.m() == 0) woven.set_m(SmallestSatinMove(woven.n()));
+      break;
+    case v1::WEAVE_PATTERN_BASKET:
+      if (woven.n() == 0) woven.set_n(kDefaultBasketGroup);
+      break;
+    default: break;
+  }
+  if (woven.inclination_degrees() == 0) woven.set_inclination_degrees(kDefaultInclinationDegrees);
+}
+
+void ApplyCameraDefaults(v1::Camera& camera) {
+  if (camera.projection() == v1::PROJECTION_UNSPECIFIED) camera.set_projection(v1::PROJECTION_PERSPECTIVE);
+  if (IsZero(camera.up())) SetVec3(camera.mutable_up(), 0, 0, 1);
+  if (camera.fov_y_degrees() == 0) camera.set_fov_y_degrees(kDefaultFovYDegrees);
+  if (camera.ortho_height() == 0) camera.set_ortho_height(kDefaultOrthoHeight);
+  if (camera.near() == 0) camera.set_near(kDefaultNear);
+  if (camera.far() == 0) camera.set_far(kDefaultFar);
+}
+
+void ApplyLightDefaults(v1::Light& light) {
+  if (light.type() == v1::LIGHT_TYPE_UNSPECIFIED) light.set_type(v1::LIGHT_TYPE_DIRECTIONAL);
+  if (light.intensity() == 0) light.set_intensity(kDefaultLightIntensity);
+  if (!light.has_colour()) SetGrey(light.mutable_colour(), 1);
+}
+
+void ApplyObjectDefaults(v1::SceneObject& object) {
+  if (IsZero(object.transform().scale())) SetVec3(object.mutable_transform()->mutable_scale(), 1, 1, 1);
+  if (!object.has_fabric()) return;
+  v1::FabricBinding& binding = *object.mutable_fabric();
+  *binding.mutable_fabric() = WithDefaults(binding.fabric());
+  if (binding.has_precompute()) *binding.mutable_precompute() = WithDefaults(binding.precompute());
+  if (binding.repeat_u() == 0) binding.set_repeat_u(kDefaultRepeat);
+  if (binding.repeat_v() == 0) binding.set_repeat_v(kDefaultRepeat);
+}
+
+}  // namespace
+
+KnitRepeat KnitPatternRepeat(const v1::KnitSpec& knit) {
+  switch (knit.pattern()) {
+    case v1::KNIT_PATTERN_GARTER: return {1, 2};
+    case v1::KNIT_PATTERN_RIB: return {knit.rib_knit() + knit.rib_purl(), 1};
+    case v1::KNIT_PATTERN_SEED: return {2, 2};
+    default: return {1, 1};
+  }
+}
+
+bool IsValidSatinMove(uint32_t n, uint32_t m) { return 1 < m && m + 1 < n && std::gcd(m, n) == 1; }
+
+uint32_t SmallestSatinMove(uint32_t n) {
+  for (uint32_t m = 2; m + 1 < n; ++m) {
+    if (IsValidSatinMove(n, m)) return m;
+  }
+  return 0;
+}
+
+v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
+  if (settings.spatial_resolution() == 0) settings.set_spatial_resolution(kDefaultSpatialResolution);
+  if (settings.view_directions() == 0) settings.set_view_directions(kDefaultDirections);
+  if (settings.light_directions() == 0) settings.set_light_directions(kDefaultDirections);
+  if (settings.lobes() == 0) settings.set_lobes(kDefaultLobes);
+  if (!settings.has_lookup_table()) settings.set_lookup_table(true);
+  if (settings.mip_levels() == v1::MIP_LEVELS_UNSPECIFIED) settings.set_mip_levels(v1::MIP_LEVELS_AUTO);
+  if (settings.lut_change_threshold() == 0) settings.set_lut_change_threshold(kDefaultLutChangeThreshold);
+  if (settings.max_alternations() == 0) settings.set_max_alternations(kDefaultMaxAlternations);
+  if (settings.max_lm_iterations() == 0) settings.set_max_lm_iterations(kDefaultMaxLmIterations);
+  if (!settings.has_indirect_bounces()) settings.set_indirect_bounces(kDefaultIndirectBounces);
+  if (settings.supersampling() == 0) settings.set_supersampling(kDefaultSupersampling);
+  if (!settings.has_half_float()) settings.set_half_float(true);
+  return settings;
+}
+
+v1::FabricSpec WithDefaults(v1::FabricSpec fabric) {
+  // Without a structure the yarn radius has no unit; validation reports it.
+  if (fabric.structure_case() == v1::FabricSpec::STRUCTURE_NOT_SET) return fabric;
+  const bool knit = fabric.has_knit();
+  if (knit) {
+    ApplyKnitDefaults(*fabric.mutable_knit());
+  } else {
+    ApplyWovenDefaults(*fabric.mutable_woven());
+  }
+  if (fabric.yarns().empty()) fabric.add_yarns();
+  for (v1::YarnSpec& yarn : *fabric.mutable_yarns()) {
+    ApplyYarnDefaults(yarn, knit ? kDefaultKnitYarnRadius : kDefaultWovenYarnRadius);
+  }
+  return fabric;
+}
+
+v1::RenderSettings WithDefaults(v1::RenderSettings settings) {
+  if (settings.method() == v1::RENDER_METHOD_UNSPECIFIED) settings.set_method(v1::RENDER_METHOD_SVBRDF);
+  if (settings.width() == 0) settings.set_width(kDefaultWidth);
+  if (settings.height() == 0) settings.set_height(kDefaultHeight);
+  if (settings.msaa_samples() == 0) settings.set_msaa_samples(kDefaultMsaaSamples);
+  if (settings.level_mode() == v1::LEVEL_MODE_UNSPECIFIED) settings.set_level_mode(v1::LEVEL_MODE_TRILINEAR);
+  if (settings.shadow_map_size() == 0) settings.set_shadow_map_size(kDefaultShadowMapSize);
+  if (settings.reference_samples() == 0) settings.set_reference_samples(kDefaultReferenceSamples);
+  // `format` stays unspecified: it is resolved from the output file name.
+  return settings;
+}
+
+v1::SceneSpec WithDefaults(v1::SceneSpec scene) {
+  for (v1::SceneObject& object : *scene.mutable_objects()) ApplyObjectDefaults(object);
+  ApplyCameraDefaults(*scene.mutable_camera());
+  for (v1::Light& light : *scene.mutable_lights()) ApplyLightDefaults(light);
+  *scene.mutable_render() = WithDefaults(scene.render());
+  return scene;
+}
+
+}  // namespace loom

@@ -1,0 +1,44 @@
+#include "core/spec/fabric_key.h"
+
+#include <google/protobuf/util/json_util.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/spec/defaults.h"
+#include "core/util/error.h"
+#include "core/util/sha256.h"
+
+namespace loom {
+namespace {
+
+nlohmann::json FullJson(const google::protobuf::Message& message) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.always_print_primitive_fields = true;
+  options.always_print_enums_as_ints = false;
+  options.preserve_proto_field_names = true;
+  std::string json;
+  const auto status = google::protobuf::util::MessageToJsonString(message, &json, options);
+  if (!status.ok()) throw Error(ErrorCode::kInternal, "cannot print spec: " + std::string(status.message()));
+  return nlohmann::json::parse(json);
+}
+
+}  // namespace
+
+std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
+  v1::FabricSpec canonical_fabric = WithDefaults(fabric);
+  canonical_fabric.clear_name();
+  for (auto& yarn : *canonical_fabric.mutable_yarns()) yarn.clear_name();
+
+  // nlohmann::json keeps object keys in a std::map: dump() is sorted.
+  nlohmann::json canonical;
+  canonical["asset_format_version"] = kAssetFormatVersion;
+  canonical["fabric"] = FullJson(canonical_fabric);
+  canonical["precompute"] = FullJson(WithDefaults(settings));
+  return canonical.dump();
+}
+
+std::string FabricKey(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
+  return Sha256Hex(CanonicalFabricJson(fabric, settings));
+}
+
+}  // namespace loom

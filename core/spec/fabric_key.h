@@ -1,0 +1,27 @@
+#pragma once
+// The fabric cache key (DESIGN.md "Schema"): a content hash of the canonical
+// FabricSpec + PrecomputeSettings + the engine's asset-format version, so identical
+// requests share one computation.
+//
+// Canonical form: defaults applied (core/spec/defaults.h), cosmetic names cleared,
+// printed as protobuf JSON with every field present, then re-serialised with keys
+// sorted and no whitespace. It does not depend on the field order of the input file
+// or on which of two equal spellings (omitted vs explicit default) was used.
+
+#include <string>
+
+#include "loom/v1/fabric.pb.h"
+#include "loom/v1/precompute.pb.h"
+
+namespace loom {
+
+// Bumped whenever the asset layout or the meaning of a fitted parameter changes:
+// it invalidates every cached fabric.
+inline constexpr int kAssetFormatVersion = 1;
+
+std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
+
+// Lowercase hex SHA-256 of CanonicalFabricJson.
+std::string FabricKey(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
+
+}  // namespace loom

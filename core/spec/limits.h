@@ -1,0 +1,118 @@
+#pragma once
+// Every cap on what a spec may ask for. A spec arrives from a file or over the
+// network, so anything that drives memory or time is bounded here, in one place for
+// the docs, the validator and the tests. core/spec/validate.h enforces the caps on
+// spec fields; loaders enforce the rest (kMaxMeshTriangles).
+
+#include <cstdint>
+
+namespace loom {
+
+// --- Names and lists --------------------------------------------------------
+
+// Names end up in logs, file names and UI labels; longer is a mistake or abuse.
+inline constexpr int kMaxNameLength = 256;
+// Mesh paths (client side only); PATH_MAX on Linux.
+inline constexpr int kMaxPathLength = 4096;
+
+// --- PrecomputeSettings -------------------------------------------------------
+
+// The BRDF array is resolution² texels per level; 2 is the smallest with a mip chain.
+inline constexpr uint32_t kMinSpatialResolution = 2;
+// 256² texels × lobes × RGB parameters is already hundreds of MiB per fabric.
+inline constexpr uint32_t kMaxSpatialResolution = 256;
+// Directions lie on a k×k grid interpolated bilinearly: 2×2 is the smallest grid.
+inline constexpr uint32_t kMinDirections = 4;
+// A 64×64 grid; finer grids cost acquisition time without visible gain.
+inline constexpr uint32_t kMaxDirections = 4096;
+// Daubert 2001 fits 1-3 Lafortune lobes; the shader evaluates at most 3.
+inline constexpr uint32_t kMinLobes = 1;
+inline constexpr uint32_t kMaxLobes = 3;
+// spatial_resolution² × view_directions × light_directions: the radiance samples
+// acquisition computes and fitting keeps in memory (1<<26 RGB floats = 768 MiB).
+inline constexpr uint64_t kMaxRadianceSamples = uint64_t{1} << 26;
+// The LUT alternation stops below this mean change; above 10 it would never run.
+inline constexpr float kMaxLutChangeThreshold = 10.0f;
+// Lobe/LUT alternation converges in a handful of rounds; 100 bounds a runaway fit.
+inline constexpr uint32_t kMaxAlternations = 100;
+// Levenberg-Marquardt iterations per lobe fit; bounds fitting time per texel.
+inline constexpr uint32_t kMaxLmIterations = 1000;
+// Indirect diffuse bounces between yarns; each bounce multiplies acquisition cost.
+inline constexpr uint32_t kMaxIndirectBounces = 2;
+// n×n rays per texel; 8×8 = 64 rays is far past visible convergence.
+inline constexpr uint32_t kMaxSupersampling = 8;
+
+// --- FabricSpec ----------------------------------------------------------------
+
+// One colour/material per yarn; the asset stores per-texel parameters, not yarn ids,
+// but acquisition shades every yarn and the tile must stay small.
+inline constexpr int kMinYarns = 1;
+inline constexpr int kMaxYarns = 16;
+// Yarn radius as a fraction of the loop width (knit) or yarn pitch (woven): above
+// 0.5 neighbouring yarns interpenetrate.
+inline constexpr float kMaxYarnRadius = 0.5f;
+// Plies twisted into one yarn; each ply is its own swept tube.
+inline constexpr uint32_t kMaxPlies = 8;
+// Ply twist angle in degrees, either handedness.
+inline constexpr float kMaxTwistDegrees = 90.0f;
+// Energy conservation: diffuse + specular albedo per channel may exceed 1 by float
+// rounding only (0.96 + 0.04 is not exactly 1 in float).
+inline constexpr float kAlbedoSumTolerance = 1e-5f;
+
+// Knit rib widths (columns of knit, then of purl).
+inline constexpr uint32_t kMaxRibWidth = 16;
+// Loops per tile side (wales across, courses down); the tile is one periodic unit.
+inline constexpr uint32_t kMaxLoopsPerTileSide = 32;
+// Loop width : height; outside [0.5, 2] the key-point loop model degenerates.
+inline constexpr float kMinLoopAspect = 0.5f;
+inline constexpr float kMaxLoopAspect = 2.0f;
+// Loop jitter in yarn radii; above 1 neighbouring loops collide.
+inline constexpr float kMaxLoopJitter = 1.0f;
+
+// Twill floats: n over, m under.
+inline constexpr uint32_t kMinTwillFloat = 1;
+inline constexpr uint32_t kMaxTwillFloat = 16;
+// Satin repeat: 5 is the smallest n with a valid move (1 < m < n-1, gcd(m, n) = 1).
+inline constexpr uint32_t kMinSatinRepeat = 5;
+inline constexpr uint32_t kMaxSatinRepeat = 32;
+// Basket weave: yarns grouped per interlacing.
+inline constexpr uint32_t kMinBasketGroup = 1;
+inline constexpr uint32_t kMaxBasketGroup = 8;
+// Crimp angle; past 60 degrees the yarns would stand on end.
+inline constexpr float kMaxInclinationDegrees = 60.0f;
+// Gap ratio is in [0, 0.9): at 1 the yarns would vanish.
+inline constexpr float kMaxGapRatio = 0.9f;
+// Warp/weft colour lists and knit colour patterns repeat across one tile.
+inline constexpr int kMaxColourListLength = 256;
+
+// --- SceneSpec -----------------------------------------------------------------
+
+// Objects per scene: one draw call and one fabric binding each.
+inline constexpr int kMinObjects = 1;
+inline constexpr int kMaxObjects = 64;
+// Lights per scene: the svbrdf shader loops over them, each may own a shadow map.
+inline constexpr int kMaxLights = 16;
+// Built-in shape tessellation; 1024² quads is already 2M triangles.
+inline constexpr uint32_t kMaxSegments = 1024;
+// Triangles per mesh (OBJ uploads and tessellated built-ins); bounds GPU memory.
+inline constexpr int64_t kMaxMeshTriangles = 4'000'000;
+// Tile repeats across the UV square; beyond this a tile is far below a pixel.
+inline constexpr float kMaxRepeat = 4096.0f;
+// Perspective field of view in degrees: (0, 170); at 180 the projection is singular.
+inline constexpr float kMaxFovDegrees = 170.0f;
+
+// --- RenderSettings ------------------------------------------------------------
+
+// Frame side in pixels: the largest GL renderbuffer every target supports.
+inline constexpr uint32_t kMaxImageSide = 8192;
+// Pixels per frame (8192×4096): bounds framebuffer and readback memory.
+inline constexpr uint64_t kMaxImagePixels = uint64_t{8192} * 4096;
+// MSAA sample counts GL implementations offer; any power of two up to this.
+inline constexpr uint32_t kMaxMsaaSamples = 16;
+// Shadow-map side in texels.
+inline constexpr uint32_t kMinShadowMapSize = 256;
+inline constexpr uint32_t kMaxShadowMapSize = 8192;
+// Reference renderer samples per pixel; bounds ray-tracing time per frame.
+inline constexpr uint32_t kMaxReferenceSamples = 4096;
+
+}  // namespace loom

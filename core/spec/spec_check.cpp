@@ -1,0 +1,44 @@
+#include "core/spec/spec_check.h"
+
+#include "core/spec/defaults.h"
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+
+namespace loom {
+namespace {
+
+template <typename Spec>
+SpecCheck Check(const std::filesystem::path& path, const char* root) {
+  const Spec spec = LoadSpecFile<Spec>(path, root);
+  return SpecCheck{Validate(spec, root), SpecToJson(WithDefaults(spec))};
+}
+
+}  // namespace
+
+SpecKind ParseSpecKind(std::string_view name) {
+  if (name == "fabric") return SpecKind::kFabric;
+  if (name == "precompute") return SpecKind::kPrecompute;
+  if (name == "scene") return SpecKind::kScene;
+  throw Error(ErrorCode::kInvalidArgument,
+              "spec kind '" + std::string(name) + "' is not one of fabric, precompute, scene");
+}
+
+const char* SpecKindName(SpecKind kind) {
+  switch (kind) {
+    case SpecKind::kFabric: return "fabric";
+    case SpecKind::kPrecompute: return "precompute";
+    case SpecKind::kScene: return "scene";
+  }
+  return "?";
+}
+
+SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path) {
+  switch (kind) {
+    case SpecKind::kFabric: return Check<v1::FabricSpec>(path, "fabric");
+    case SpecKind::kPrecompute: return Check<v1::PrecomputeSettings>(path, "precompute");
+    case SpecKind::kScene: return Check<v1::SceneSpec>(path, "scene");
+  }
+  throw Error(ErrorCode::kInternal, "unknown spec kind");
+}
+
+}  // namespace loom

@@ -1,0 +1,29 @@
+#pragma once
+// Checking a spec file the way the server will: strict parse, then validation.
+// Shared by `loom spec check` and `loom-lab validate`.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "core/spec/validate.h"
+
+namespace loom {
+
+enum class SpecKind { kFabric, kPrecompute, kScene };
+
+// "fabric", "precompute" or "scene"; throws Error(kInvalidArgument) otherwise.
+SpecKind ParseSpecKind(std::string_view name);
+const char* SpecKindName(SpecKind kind);
+
+struct SpecCheck {
+  ValidationIssues issues;
+  // The spec with every default explicit, as protobuf JSON.
+  std::string normalized_json;
+};
+
+// Parse errors throw Error(kInvalidArgument) naming the file and field; range
+// problems come back in `issues`.
+SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path);
+
+}  // namespace loom

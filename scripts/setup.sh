@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Installs Loom's Debian 12 build and run dependencies (idempotent: only missing
+# packages are installed) and builds Loom into ./build (Release by default).
+#
+#   scripts/setup.sh            install what is missing, configure, build
+#   scripts/setup.sh --no-build install only
+#
+# Environment: BUILD_DIR (default build), BUILD_TYPE (default Release),
+#              JOBS (default: number of cores).
+set -euo pipefail
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+PACKAGES=(
+  build-essential cmake pkg-config git ca-certificates
+  libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
+  libceres-dev libeigen3-dev
+  libopenimageio-dev openimageio-tools
+  libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
+  libembree-dev libsqlite3-dev libcli11-dev libglm-dev libtinyobjloader-dev
+  nlohmann-json3-dev libssl-dev
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+
+if ((${#missing[@]})); then
+  echo "loom setup: installing ${#missing[@]} missing package(s): ${missing[*]}"
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "loom setup: all ${#PACKAGES[@]} packages present"
+fi
+
+if [[ "${1:-}" == "--no-build" ]]; then exit 0; fi
+
+BUILD_DIR=${BUILD_DIR:-build}
+BUILD_TYPE=${BUILD_TYPE:-Release}
+JOBS=${JOBS:-$(nproc)}
+cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE"
+cmake --build "$BUILD_DIR" -j "$JOBS"
