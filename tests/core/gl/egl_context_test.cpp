@@ -38,28 +38,33 @@ TEST(EglContext, ReportsAnOpenGl45CoreDevice) {
   std::printf("renderer: %s | %s\n", info.gl_renderer.c_str(), info.gl_version.c_str());
 }
 
-// A right triangle covering the lower-left half of a 16 x 16 float target, in a
-// colour that is not representable in 8 bits: covered pixels must read back the
-// exact float, uncovered ones the exact clear value.
-TEST(EglContext, DrawsAKnownTriangleIntoAFloatFramebuffer) {
-  const auto context = EglContext::Create();
-  constexpr int kSize = 16;
-  Framebuffer target(kSize, kSize);
+// Draws the right triangle (-1,-1), (1,-1), (-1,1) — the lower-left half of the
+// target — in `colour` over `clear`, and reads the target back.
+Image DrawLowerLeftTriangle(int size, int samples, const glm::vec4& clear, const glm::vec4& colour) {
+  Framebuffer target(size, size, samples);
   ShaderProgram program = ShaderProgram::Link({{GL_VERTEX_SHADER, "flat.vert", kFlatVertex},
                                                {GL_FRAGMENT_SHADER, "flat.frag", kFlatFragment}});
   TriangleMesh triangle;
   triangle.positions = {{-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, {-1.0f, 1.0f, 0.0f}};
   triangle.indices = {0, 1, 2};
   MeshBuffer mesh(triangle);
-
   target.Bind();
-  glClearColor(0.125f, 0.0f, 2.5f, 0.0f);  // > 1: the target really is float
+  glClearColor(clear.r, clear.g, clear.b, clear.a);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   program.Use();
-  const glm::vec4 colour(0.1234567f, 7.5f, -0.25f, 1.0f);
   program.Set("u_colour", colour);
   mesh.Draw();
-  const Image image = target.ReadPixels();
+  return target.ReadPixels();
+}
+
+// On a 16 x 16 float target, in a colour that is not representable in 8 bits:
+// covered pixels must read back the exact float, uncovered ones the exact clear value.
+TEST(EglContext, DrawsAKnownTriangleIntoAFloatFramebuffer) {
+  const auto context = EglContext::Create();
+  constexpr int kSize = 16;
+  const glm::vec4 clear(0.125f, 0.0f, 2.5f, 0.0f);  // > 1: the target really is float
+  const glm::vec4 colour(0.1234567f, 7.5f, -0.25f, 1.0f);
+  const Image image = DrawLowerLeftTriangle(kSize, 1, clear, colour);
 
   ASSERT_EQ(image.width, kSize);
   ASSERT_EQ(image.height, kSize);
@@ -71,7 +76,7 @@ TEST(EglContext, DrawsAKnownTriangleIntoAFloatFramebuffer) {
       const int row = kSize - 1 - y;
       if (x + row == kSize - 1) continue;
       const bool inside = x + row < kSize - 1;
-      const glm::vec4 expected = inside ? colour : glm::vec4(0.125f, 0.0f, 2.5f, 0.0f);
+      const glm::vec4 expected = inside ? colour : clear;
       for (int c = 0; c < 4; ++c) {
         ASSERT_EQ(image.at(x, y, c), expected[c]) << "pixel (" << x << ", " << y << ") channel " << c;
       }
@@ -84,20 +89,7 @@ TEST(EglContext, DrawsAKnownTriangleIntoAFloatFramebuffer) {
 
 TEST(EglContext, MultisampledTargetResolvesEdgesToPartialCoverage) {
   const auto context = EglContext::Create();
-  Framebuffer target(8, 8, 4);
-  ShaderProgram program = ShaderProgram::Link({{GL_VERTEX_SHADER, "flat.vert", kFlatVertex},
-                                               {GL_FRAGMENT_SHADER, "flat.frag", kFlatFragment}});
-  TriangleMesh triangle;
-  triangle.positions = {{-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, {-1.0f, 1.0f, 0.0f}};
-  triangle.indices = {0, 1, 2};
-  MeshBuffer mesh(triangle);
-  target.Bind();
-  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  program.Use();
-  program.Set("u_colour", glm::vec4(1.0f));
-  mesh.Draw();
-  const Image image = target.ReadPixels();
+  const Image image = DrawLowerLeftTriangle(8, 4, glm::vec4(0.0f), glm::vec4(1.0f));
   // Pixels on the diagonal are cut by the edge: resolved coverage strictly between 0 and 1.
   for (int x = 0; x < 8; ++x) {
     const float value = image.at(x, x, 0);  // top-left to bottom-right is the hypotenuse
