@@ -34,9 +34,7 @@ int Main(int argc, char** argv) {
 
   const SpecCheck result = CheckSpecFile(ParseSpecKind(kind), path);
   if (json) {
-    nlohmann::json issues = nlohmann::json::array();
-    for (const ValidationIssue& issue : result.issues) issues.push_back({{"path", issue.path}, {"message", issue.message}});
-    nlohmann::json out = {{"file", path}, {"valid", result.issues.empty()}, {"issues", issues}};
+    nlohmann::json out = SpecCheckJson(path, result);
     if (show_normalized) out["normalized"] = nlohmann::json::parse(result.normalized_json);
     std::cout << out.dump() << std::endl;
   } else {

@@ -41,4 +41,10 @@ SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path) {
   throw Error(ErrorCode::kInternal, "unknown spec kind");
 }
 
+nlohmann::json SpecCheckJson(const std::string& file, const SpecCheck& check) {
+  nlohmann::json issues = nlohmann::json::array();
+  for (const ValidationIssue& issue : check.issues) issues.push_back({{"path", issue.path}, {"message", issue.message}});
+  return {{"file", file}, {"valid", check.issues.empty()}, {"issues", issues}};
+}
+
 }  // namespace loom

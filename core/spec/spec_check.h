@@ -2,6 +2,8 @@
 // Checking a spec file the way the server will: strict parse, then validation.
 // Shared by `loom spec check` and `loom-lab validate`.
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -25,5 +27,8 @@ struct SpecCheck {
 // Parse errors throw Error(kInvalidArgument) naming the file and field; range
 // problems come back in `issues`.
 SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path);
+
+// {"file", "valid", "issues": [{"path", "message"}...]}, the --json report of a check.
+nlohmann::json SpecCheckJson(const std::string& file, const SpecCheck& check);
 
 }  // namespace loom

@@ -1,0 +1,40 @@
+#pragma once
+// loom-lab's subcommands. Each Add*Command registers its CLI11 subcommand and
+// returns what to run when it is chosen; main() parses and runs the chosen one.
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+
+#include "core/gl/egl_context.h"
+
+namespace loom::lab {
+
+// Flags every subcommand shares.
+struct LabFlags {
+  bool json = false;  // print one JSON object with the figures
+};
+
+struct LabCommand {
+  CLI::App* command;
+  std::function<int()> run;  // returns the exit code
+};
+
+LabCommand AddInfoCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddTestSceneCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
+
+// Shared by the GL subcommands: --software, and the context it asks for.
+struct GlFlags {
+  bool software = false;
+};
+void AddGlFlags(CLI::App* command, GlFlags* flags);
+std::unique_ptr<gl::EglContext> MakeContext(const GlFlags& flags);
+
+nlohmann::json DeviceJson(const gl::DeviceInfo& info);
+void PrintJson(const nlohmann::json& figures);
+
+}  // namespace loom::lab
