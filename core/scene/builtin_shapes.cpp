@@ -64,4 +64,31 @@ TriangleMesh MakeCylinder(int segments) {
   });
 }
 
+TriangleMesh MakeDrape(int segments) {
+  constexpr float kRadius = 0.5f;
+  constexpr float kEquatorArc = kRadius * glm::half_pi<float>();  // arc length from the top to the equator
+  constexpr int kFolds = 8;
+  TriangleMesh mesh = MakeGrid(segments, segments, [](float u, float v, glm::vec3& p, glm::vec3& n, glm::vec3& t) {
+    // Flat cloth coordinates in [-1, 1]²; s is the arc length from the centre.
+    const glm::vec2 flat(2.0f * u - 1.0f, 2.0f * v - 1.0f);
+    const float s = glm::length(flat);
+    const float phi = std::atan2(flat.y, flat.x);
+    const glm::vec2 radial(std::cos(phi), std::sin(phi));
+    if (s <= kEquatorArc) {
+      const float theta = s / kRadius;
+      p = glm::vec3(kRadius * std::sin(theta) * radial, kRadius * std::cos(theta));
+    } else {
+      const float hang = s - kEquatorArc;
+      // Folds bulge outwards only: the cloth never cuts into the sphere below the equator.
+      const float fold = 0.06f * hang * (1.0f + std::sin(kFolds * phi));
+      p = glm::vec3((kRadius + fold) * radial, -hang);
+    }
+    n = glm::vec3(0.0f);  // filled in by PrepareMesh from the faces
+    t = glm::vec3(0.0f);
+  });
+  mesh.normals.clear();
+  mesh.tangents.clear();
+  return mesh;
+}
+
 }  // namespace loom

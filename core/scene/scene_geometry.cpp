@@ -1,0 +1,76 @@
+#include "core/scene/scene_geometry.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/scene/builtin_shapes.h"
+#include "core/scene/camera.h"
+#include "core/scene/obj_loader.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom {
+namespace {
+
+constexpr int kDefaultSegments = 64;
+
+TriangleMesh BuiltinMesh(v1::BuiltinShape shape, int segments) {
+  switch (shape) {
+    case v1::BUILTIN_SHAPE_PLANE: return MakePlane(segments);
+    case v1::BUILTIN_SHAPE_SPHERE: return MakeSphere(segments);
+    case v1::BUILTIN_SHAPE_CYLINDER: return MakeCylinder(segments);
+    case v1::BUILTIN_SHAPE_DRAPE: return MakeDrape(segments);
+    default: break;
+  }
+  throw Error(ErrorCode::kInvalidArgument, "unknown built-in shape " + std::to_string(shape));
+}
+
+void Transform(TriangleMesh& mesh, const glm::mat4& model) {
+  const glm::mat3 linear(model);
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+  for (glm::vec3& p : mesh.positions) p = glm::vec3(model * glm::vec4(p, 1.0f));
+  for (glm::vec3& n : mesh.normals) n = glm::normalize(normal_matrix * n);
+  // A mirroring transform flips the tangent frame's handedness.
+  const float flip = glm::determinant(linear) < 0.0f ? -1.0f : 1.0f;
+  for (glm::vec4& t : mesh.tangents) t = glm::vec4(glm::normalize(linear * glm::vec3(t)), t.w * flip);
+}
+
+}  // namespace
+
+MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory) {
+  return [scene_directory](const v1::MeshRef& mesh) -> std::string {
+    if (mesh.source_case() != v1::MeshRef::kObjPath) {
+      throw Error(ErrorCode::kInvalidArgument, "mesh artifacts are resolved by the server, not from files");
+    }
+    return ReadFile(scene_directory / mesh.obj_path());
+  };
+}
+
+glm::mat4 ModelMatrix(const v1::Transform& transform) {
+  const glm::vec3 degrees = ToGlm(transform.rotation_degrees());
+  glm::mat4 model = glm::translate(glm::mat4(1.0f), ToGlm(transform.translation()));
+  model = glm::rotate(model, glm::radians(degrees.z), glm::vec3(0, 0, 1));
+  model = glm::rotate(model, glm::radians(degrees.y), glm::vec3(0, 1, 0));
+  model = glm::rotate(model, glm::radians(degrees.x), glm::vec3(1, 0, 0));
+  return glm::scale(model, ToGlm(transform.scale()));
+}
+
+std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve) {
+  std::vector<SceneMesh> meshes;
+  for (int i = 0; i < scene.objects_size(); ++i) {
+    const v1::SceneObject& object = scene.objects(i);
+    const std::string label = "scene.objects[" + std::to_string(i) + "]" +
+                              (object.name().empty() ? "" : " (" + object.name() + ")");
+    SceneMesh built;
+    built.object = &object;
+    const v1::MeshRef& ref = object.mesh();
+    const int segments = ref.segments() > 0 ? static_cast<int>(ref.segments()) : kDefaultSegments;
+    built.mesh = ref.source_case() == v1::MeshRef::kBuiltin ? BuiltinMesh(ref.builtin(), segments)
+                                                            : ParseObj(resolve(ref), label);
+    built.report = PrepareMesh(built.mesh, label.c_str());
+    Transform(built.mesh, ModelMatrix(object.transform()));
+    meshes.push_back(std::move(built));
+  }
+  return meshes;
+}
+
+}  // namespace loom
