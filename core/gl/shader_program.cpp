@@ -24,8 +24,9 @@ std::string InfoLog(GLuint object, bool is_program) {
 }
 
 GLuint Compile(const ShaderStage& stage) {
+  const ExpandedSource source = ExpandIncludes(stage.name, stage.text);
   const GLuint shader = glCreateShader(stage.type);
-  const char* text = stage.text.c_str();
+  const char* text = source.text.c_str();
   glShaderSource(shader, 1, &text, nullptr);
   glCompileShader(shader);
   GLint ok = GL_FALSE;
@@ -34,7 +35,7 @@ GLuint Compile(const ShaderStage& stage) {
     const std::string log = InfoLog(shader, false);
     glDeleteShader(shader);
     throw Error(ErrorCode::kInternal, "shader " + stage.name + " failed to compile:\n" +
-                                          AnnotateShaderLog(log, stage.name));
+                                          AnnotateShaderLog(log, source.files));
   }
   return shader;
 }
@@ -48,19 +49,59 @@ std::string_view FindEmbedded(const std::string& name) {
 
 }  // namespace
 
-std::string AnnotateShaderLog(std::string_view log, std::string_view file) {
+namespace {
+
+// Appends `text` (from `file`, source string number `number`) to `out`, expanding
+// includes depth-first. `#line` keeps each file's own numbering; the #version
+// line must stay first, so a stage's own text starts being numbered after it.
+void Expand(const std::string& file, const std::string& text, ExpandedSource& out) {
+  static const std::regex kInclude(R"re(^\s*#\s*include\s+"([^"]+)"\s*$)re");
+  const int number = static_cast<int>(out.files.size());
+  out.files.push_back(file);
+  std::istringstream lines(text);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(lines, line)) {
+    ++line_number;
+    std::smatch match;
+    if (std::regex_match(line, match, kInclude)) {
+      const std::string included = match[1].str();
+      if (std::find(out.files.begin(), out.files.end(), included) == out.files.end()) {
+        out.text += "#line 1 " + std::to_string(out.files.size()) + "\n";
+        Expand(included, std::string(FindEmbedded(included)), out);
+      }
+      out.text += "#line " + std::to_string(line_number + 1) + " " + std::to_string(number) + "\n";
+    } else {
+      out.text += line + "\n";
+    }
+  }
+}
+
+}  // namespace
+
+ExpandedSource ExpandIncludes(const std::string& name, const std::string& text) {
+  ExpandedSource expanded;
+  Expand(name, text, expanded);
+  return expanded;
+}
+
+std::string AnnotateShaderLog(std::string_view log, const std::vector<std::string>& files) {
   // Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error C0000: ...".
-  static const std::regex kMesa(R"(^\s*\d+:(\d+)\(\d+\):\s*(.*)$)");
-  static const std::regex kNvidia(R"(^\s*\d+\((\d+)\)\s*:\s*(.*)$)");
+  static const std::regex kMesa(R"(^\s*(\d+):(\d+)\(\d+\):\s*(.*)$)");
+  static const std::regex kNvidia(R"(^\s*(\d+)\((\d+)\)\s*:\s*(.*)$)");
+  const auto file_of = [&files](const std::string& number) {
+    const size_t index = std::stoul(number);
+    return index < files.size() ? files[index] : "source " + number;
+  };
   std::istringstream lines{std::string(log)};
   std::string line, annotated;
   while (std::getline(lines, line)) {
     if (line.empty()) continue;
     std::smatch match;
     if (std::regex_match(line, match, kMesa) || std::regex_match(line, match, kNvidia)) {
-      annotated += std::string(file) + ":" + match[1].str() + ": " + match[2].str() + "\n";
+      annotated += file_of(match[1].str()) + ":" + match[2].str() + ": " + match[3].str() + "\n";
     } else {
-      annotated += std::string(file) + ": " + line + "\n";
+      annotated += (files.empty() ? std::string("shader") : files[0]) + ": " + line + "\n";
     }
   }
   return annotated;

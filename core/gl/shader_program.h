@@ -46,8 +46,19 @@ class ShaderProgram {
   GLuint program_ = 0;
 };
 
-// Rewrites a driver info log so each line reads "<file>:<line>: <message>".
-// Understands Mesa ("0:12(5): error: ...") and NVIDIA ("0(12) : error C0000: ...").
-std::string AnnotateShaderLog(std::string_view log, std::string_view file);
+// A stage's text with every `#include "name.glsl"` line replaced by that embedded
+// shader (recursively, each file once), and `#line` directives so that the driver
+// numbers each file's lines from 1 under its own source-string number:
+// files[n] is the file of source string n (files[0] is the stage itself).
+struct ExpandedSource {
+  std::string text;
+  std::vector<std::string> files;
+};
+ExpandedSource ExpandIncludes(const std::string& name, const std::string& text);
+
+// Rewrites a driver info log so each line reads "<file>:<line>: <message>", the
+// file found by source-string number in `files`. Understands Mesa
+// ("0:12(5): error: ...") and NVIDIA ("0(12) : error C0000: ...").
+std::string AnnotateShaderLog(std::string_view log, const std::vector<std::string>& files);
 
 }  // namespace loom::gl

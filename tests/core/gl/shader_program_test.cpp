@@ -37,10 +37,34 @@ TEST(ShaderProgram, LinkErrorNamesTheStages) {
 }
 
 TEST(ShaderProgram, AnnotatesMesaAndNvidiaLogLines) {
-  EXPECT_EQ(AnnotateShaderLog("0:12(5): error: `x' undeclared\n", "s.frag"), "s.frag:12: error: `x' undeclared\n");
-  EXPECT_EQ(AnnotateShaderLog("0(7) : error C1008: undefined variable \"x\"\n", "s.vert"),
-            "s.vert:7: error C1008: undefined variable \"x\"\n");
-  EXPECT_EQ(AnnotateShaderLog("something else\n", "s.vert"), "s.vert: something else\n");
+  const std::vector<std::string> files = {"s.frag", "lib.glsl"};
+  EXPECT_EQ(AnnotateShaderLog("0:12(5): error: `x' undeclared\n", files), "s.frag:12: error: `x' undeclared\n");
+  EXPECT_EQ(AnnotateShaderLog("1:3(5): error: `y' undeclared\n", files), "lib.glsl:3: error: `y' undeclared\n");
+  EXPECT_EQ(AnnotateShaderLog("0(7) : error C1008: undefined variable \"x\"\n", files),
+            "s.frag:7: error C1008: undefined variable \"x\"\n");
+  EXPECT_EQ(AnnotateShaderLog("something else\n", files), "s.frag: something else\n");
+}
+
+TEST(ShaderProgram, ErrorsAfterAnIncludeKeepTheStagesOwnLineNumbers) {
+  const auto context = EglContext::Create();
+  const std::string text =
+      "#version 450 core\n#include \"hemisphere_map.glsl\"\nout vec4 o;\nvoid main() {\n  o = vec4(nope);\n}\n";
+  const ExpandedSource expanded = ExpandIncludes("with_include.frag", text);
+  ASSERT_EQ(expanded.files, (std::vector<std::string>{"with_include.frag", "hemisphere_map.glsl"}));
+  try {
+    ShaderProgram::Link({{GL_FRAGMENT_SHADER, "with_include.frag", text}});
+    FAIL() << "an undefined name compiled";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("with_include.frag:5:"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ShaderProgram, AnIncludedFileIsExpandedOnce) {
+  const std::string text = "#version 450 core\n#include \"hemisphere_map.glsl\"\n#include \"hemisphere_map.glsl\"\n";
+  const ExpandedSource expanded = ExpandIncludes("twice.frag", text);
+  size_t count = 0;
+  for (size_t at = 0; (at = expanded.text.find("vec2 ConcentricSquareToDisk", at)) != std::string::npos; ++at) ++count;
+  EXPECT_EQ(count, 1u);
 }
 
 TEST(ShaderProgram, EveryEmbeddedShaderCompiles) {
