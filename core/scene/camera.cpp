@@ -4,8 +4,6 @@
 
 namespace loom {
 
-glm::vec3 ToGlm(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
 CameraMatrices MakeCameraMatrices(const v1::Camera& camera, float aspect) {
   CameraMatrices matrices;
   matrices.position = ToGlm(camera.position());

@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/spec/spec_math.h"
 #include "loom/v1/scene.pb.h"
 
 namespace loom {
@@ -16,7 +17,5 @@ struct CameraMatrices {
 
 // `camera` with defaults applied (core/spec/defaults.h); aspect = width / height.
 CameraMatrices MakeCameraMatrices(const v1::Camera& camera, float aspect);
-
-glm::vec3 ToGlm(const v1::Vec3& v);
 
 }  // namespace loom

@@ -4,9 +4,7 @@
 // finds a view's place in the table with HemisphereGridCoordinates. Keep the two
 // implementations identical (tests/core/gl/hemisphere_map_glsl_test.cpp).
 
-const float kQuarterPi = 0.78539816339744831;
-const float kHalfPi = 1.57079632679489662;
-const float kPi = 3.14159265358979324;
+#include "constants.glsl"
 
 vec2 ConcentricSquareToDisk(vec2 square) {
   vec2 p = 2.0 * square - 1.0;

@@ -1,0 +1,52 @@
+#pragma once
+// Macro-scale shadows (Daubert's fitted BRDFs hold the yarn-scale shadowing; the
+// shadows of cloth on cloth and on other objects come from here): one depth map
+// per shadow-casting directional light, in one 2-D array texture, sampled with
+// hardware depth comparison and 3×3 PCF in core/shaders/lights.glsl. Point lights
+// cast no shadows in this renderer.
+
+#include <GL/glcorearb.h>
+
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "core/gl/mesh_buffer.h"
+#include "core/gl/shader_program.h"
+
+namespace loom {
+
+inline constexpr int kMaxShadowMaps = 4;  // as in lights.glsl
+
+struct SceneBounds {
+  glm::vec3 centre{0.0f};
+  float radius = 1.0f;
+};
+
+class ShadowMaps {
+ public:
+  explicit ShadowMaps(int size);
+  ~ShadowMaps();
+  ShadowMaps(const ShadowMaps&) = delete;
+  ShadowMaps& operator=(const ShadowMaps&) = delete;
+
+  // Renders one map per direction (unit, towards the light; at most
+  // kMaxShadowMaps) covering `bounds`; matrix(i) maps world space to map i's [0,1]³.
+  void Render(const std::vector<glm::vec3>& directions, const SceneBounds& bounds,
+              const std::vector<const gl::MeshBuffer*>& casters);
+
+  GLuint texture() const { return texture_; }
+  const glm::mat4& matrix(int layer) const { return matrices_[static_cast<size_t>(layer)]; }
+  int size() const { return size_; }
+  // World-space offset along the normal that keeps a lit surface from shadowing itself.
+  float bias() const { return bias_; }
+
+ private:
+  int size_;
+  GLuint texture_ = 0;
+  GLuint framebuffer_ = 0;
+  gl::ShaderProgram program_;
+  std::vector<glm::mat4> matrices_;
+  float bias_ = 0.0f;
+};
+
+}  // namespace loom

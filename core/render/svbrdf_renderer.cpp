@@ -1,0 +1,115 @@
+#include "core/render/svbrdf_renderer.h"
+
+#include <chrono>
+#include <string>
+
+#include "core/gl/framebuffer.h"
+#include "core/gl/mesh_buffer.h"
+#include "core/scene/camera.h"
+
+namespace loom {
+namespace {
+
+constexpr int kMaxLights = 16;  // as in lights.glsl and core/spec/limits.h
+
+SceneBounds BoundsOf(const std::vector<SceneMesh>& meshes) {
+  glm::vec3 low(INFINITY), high(-INFINITY);
+  for (const SceneMesh& mesh : meshes) {
+    for (const glm::vec3& p : mesh.mesh.positions) {
+      low = glm::min(low, p);
+      high = glm::max(high, p);
+    }
+  }
+  return {0.5f * (low + high), std::max(0.5f * glm::length(high - low), 1e-3f)};
+}
+
+std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
+
+// Uploads the lights to `program` and renders the shadow maps they need.
+void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
+                 const std::vector<const gl::MeshBuffer*>& casters, ShadowMaps& shadows,
+                 const gl::ShaderProgram& program) {
+  std::vector<glm::vec3> shadow_directions;
+  const int count = std::min(scene.lights_size(), kMaxLights);
+  for (int i = 0; i < count; ++i) {
+    const v1::Light& light = scene.lights(i);
+    const bool directional = light.type() != v1::LIGHT_TYPE_POINT;
+    const glm::vec3 vector = directional ? glm::normalize(ToGlm(light.direction())) : ToGlm(light.position());
+    int shadow = -1;
+    if (directional && light.casts_shadows() && shadow_directions.size() < kMaxShadowMaps) {
+      shadow = static_cast<int>(shadow_directions.size());
+      shadow_directions.push_back(vector);
+    }
+    program.Set(Indexed("u_light_vector", i).c_str(), glm::vec4(vector, directional ? 0.0f : 1.0f));
+    program.Set(Indexed("u_light_radiance", i).c_str(), ToGlm(light.colour()) * light.intensity());
+    program.Set(Indexed("u_light_shadow", i).c_str(), shadow);
+  }
+  program.Set("u_light_count", count);
+  shadows.Render(shadow_directions, bounds, casters);
+  for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
+    program.Set(Indexed("u_shadow_matrix", static_cast<int>(layer)).c_str(), shadows.matrix(static_cast<int>(layer)));
+  }
+  program.Set("u_shadow_bias", shadows.bias());
+}
+
+}  // namespace
+
+SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
+    : context_(context), scene_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("scene"))) {}
+
+RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes) {
+  const auto start = std::chrono::steady_clock::now();
+  context_.MakeCurrent();
+  const v1::RenderSettings& settings = scene.render();
+  const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
+  if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
+    shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
+  }
+
+  std::vector<std::unique_ptr<gl::MeshBuffer>> buffers;
+  std::vector<const gl::MeshBuffer*> casters;
+  for (const SceneMesh& mesh : meshes) {
+    buffers.push_back(std::make_unique<gl::MeshBuffer>(mesh.mesh));
+    casters.push_back(buffers.back().get());
+  }
+
+  GLuint timer = 0;
+  glCreateQueries(GL_TIME_ELAPSED, 1, &timer);
+  glBeginQuery(GL_TIME_ELAPSED, timer);
+
+  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, scene_program_);
+
+  gl::Framebuffer target(width, height, static_cast<int>(settings.msaa_samples()));
+  target.Bind();
+  const glm::vec3 background = ToGlm(scene.background());
+  glClearColor(background.r, background.g, background.b, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);  // cloth is seen from both sides
+
+  const CameraMatrices camera =
+      MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
+  scene_program_.Use();
+  scene_program_.Set("u_view_projection", camera.projection * camera.view);
+  scene_program_.Set("u_ambient", ToGlm(scene.ambient()));
+  scene_program_.Set("u_shadow_maps", 0);
+  glBindTextureUnit(0, shadows_->texture());
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const v1::SceneObject& object = *meshes[i].object;
+    scene_program_.Set("u_base_colour", object.has_base_colour() ? ToGlm(object.base_colour()) : glm::vec3(0.8f));
+    buffers[i]->Draw();
+  }
+  glEndQuery(GL_TIME_ELAPSED);
+
+  RenderedFrame frame;
+  frame.image = target.ReadPixels();
+  GLuint64 elapsed_ns = 0;
+  glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &elapsed_ns);
+  glDeleteQueries(1, &timer);
+  frame.gpu_ms = static_cast<double>(elapsed_ns) * 1e-6;
+  frame.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return frame;
+}
+
+}  // namespace loom

@@ -1,0 +1,43 @@
+#pragma once
+// The `svbrdf` frame renderer (DESIGN.md "Renderers"): rasterises a scene with
+// OpenGL 4.5 core through EGL — the same code on an NVIDIA GPU and on llvmpipe —
+// with macro-scale shadow maps and MSAA. Objects without a fabric are Lambertian in
+// their base colour.
+//
+// Light units: a directional light's colour × intensity is the irradiance it brings
+// at normal incidence; a point light's is its intensity (irradiance = I / d²);
+// ambient is the radiance of a uniform, unshadowed environment.
+
+#include <memory>
+#include <vector>
+
+#include "core/gl/egl_context.h"
+#include "core/gl/shader_program.h"
+#include "core/image/image.h"
+#include "core/render/shadow_maps.h"
+#include "core/scene/scene_geometry.h"
+#include "loom/v1/scene.pb.h"
+
+namespace loom {
+
+struct RenderedFrame {
+  Image image;          // linear radiance, RGBA (alpha 1)
+  double cpu_ms = 0.0;  // wall time of Render, upload and read-back included
+  double gpu_ms = 0.0;  // GL_TIME_ELAPSED of the shadow and main passes
+};
+
+class SvbrdfRenderer {
+ public:
+  // Compiles the programs once; a worker keeps one renderer for every frame.
+  explicit SvbrdfRenderer(gl::EglContext& context);
+
+  // `scene` with defaults applied and validated; `meshes` = BuildSceneGeometry(scene).
+  RenderedFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes);
+
+ private:
+  gl::EglContext& context_;
+  gl::ShaderProgram scene_program_;
+  std::unique_ptr<ShadowMaps> shadows_;
+};
+
+}  // namespace loom

@@ -1,0 +1,49 @@
+// Scene lights and macro-scale shadows, shared by every surface shader.
+// Light i: u_light_vector[i].w = 0 for directional lights (xyz = unit direction
+// towards the light), 1 for point lights (xyz = position). u_light_radiance[i] is
+// the irradiance at normal incidence (directional) or the intensity (point,
+// irradiance = intensity / distance²). u_light_shadow[i] is a layer of
+// u_shadow_maps or −1.
+
+#include "constants.glsl"
+
+const int kMaxLights = 16;
+const int kMaxShadowMaps = 4;
+
+uniform int u_light_count;
+uniform vec4 u_light_vector[kMaxLights];
+uniform vec3 u_light_radiance[kMaxLights];
+uniform int u_light_shadow[kMaxLights];
+uniform mat4 u_shadow_matrix[kMaxShadowMaps];  // world → shadow map [0,1]³
+uniform sampler2DArrayShadow u_shadow_maps;
+uniform float u_shadow_bias;
+
+// Unit direction towards light i from `position`, and the irradiance it brings
+// at normal incidence there.
+vec3 LightDirection(int i, vec3 position, out vec3 irradiance) {
+  vec4 light = u_light_vector[i];
+  if (light.w == 0.0) {
+    irradiance = u_light_radiance[i];
+    return light.xyz;
+  }
+  vec3 to_light = light.xyz - position;
+  float distance2 = max(dot(to_light, to_light), 1e-8);
+  irradiance = u_light_radiance[i] / distance2;
+  return to_light * inversesqrt(distance2);
+}
+
+// Fraction of light i that reaches `position` (1 = lit), 3×3 PCF.
+float LightVisibility(int i, vec3 position, vec3 normal) {
+  int layer = u_light_shadow[i];
+  if (layer < 0) return 1.0;
+  // Offset along the normal against acne on surfaces that face the light obliquely.
+  vec4 p = u_shadow_matrix[layer] * vec4(position + normal * u_shadow_bias, 1.0);
+  vec3 uvz = p.xyz / p.w;
+  if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0)))) return 1.0;
+  vec2 texel = 1.0 / vec2(textureSize(u_shadow_maps, 0).xy);
+  float lit = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x)
+      lit += texture(u_shadow_maps, vec4(uvz.xy + vec2(x, y) * texel, float(layer), uvz.z));
+  return lit / 9.0;
+}
