@@ -26,6 +26,7 @@ LabCommand AddInfoCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddTestSceneCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags);
 
 // Shared by the GL subcommands: --software, and the context it asks for.
 struct GlFlags {
