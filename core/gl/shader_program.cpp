@@ -157,6 +157,9 @@ void ShaderProgram::Set(const char* name, float value) const {
 void ShaderProgram::Set(const char* name, int value) const {
   glProgramUniform1i(program_, glGetUniformLocation(program_, name), value);
 }
+void ShaderProgram::Set(const char* name, const glm::vec2& value) const {
+  glProgramUniform2fv(program_, glGetUniformLocation(program_, name), 1, glm::value_ptr(value));
+}
 void ShaderProgram::Set(const char* name, const glm::vec3& value) const {
   glProgramUniform3fv(program_, glGetUniformLocation(program_, name), 1, glm::value_ptr(value));
 }

@@ -36,6 +36,7 @@ class ShaderProgram {
   // Setters for the current program; an unknown (or optimised-away) uniform is ignored.
   void Set(const char* name, float value) const;
   void Set(const char* name, int value) const;
+  void Set(const char* name, const glm::vec2& value) const;
   void Set(const char* name, const glm::vec3& value) const;
   void Set(const char* name, const glm::vec4& value) const;
   void Set(const char* name, const glm::mat3& value) const;

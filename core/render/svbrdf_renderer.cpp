@@ -54,10 +54,21 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
 
 }  // namespace
 
-SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
-    : context_(context), scene_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("scene"))) {}
+// Texture units: the shadow maps and a fabric's two textures. Samplers of
+// different types may not share a unit in a draw, even when a branch leaves one
+// unused, so the fabric units are fixed once.
+constexpr int kShadowUnit = 0;
+constexpr int kFabricUnit = 1;
 
-RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes) {
+SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
+    : context_(context), scene_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("scene"))) {
+  scene_program_.Set("u_shadow_maps", kShadowUnit);
+  scene_program_.Set("u_fabric_params", kFabricUnit);
+  scene_program_.Set("u_fabric_lut", kFabricUnit + 1);
+}
+
+RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                                     const std::vector<const FabricTextures*>& fabrics) {
   const auto start = std::chrono::steady_clock::now();
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
@@ -92,14 +103,27 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
       MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
   scene_program_.Use();
   scene_program_.Set("u_view_projection", camera.projection * camera.view);
+  scene_program_.Set("u_eye", camera.position);
+  scene_program_.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
+  scene_program_.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
   scene_program_.Set("u_ambient", ToGlm(scene.ambient()));
-  scene_program_.Set("u_shadow_maps", 0);
-  glBindTextureUnit(0, shadows_->texture());
+  scene_program_.Set("u_level_mode", static_cast<int>(settings.level_mode()));
+  const bool alpha_to_coverage = settings.msaa_samples() > 1;
+  scene_program_.Set("u_alpha_to_coverage", alpha_to_coverage ? 1 : 0);
+  if (alpha_to_coverage) glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glBindTextureUnit(kShadowUnit, shadows_->texture());
   for (size_t i = 0; i < meshes.size(); ++i) {
     const v1::SceneObject& object = *meshes[i].object;
-    scene_program_.Set("u_base_colour", object.has_base_colour() ? ToGlm(object.base_colour()) : glm::vec3(0.8f));
+    const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
+    scene_program_.Set("u_has_fabric", fabric != nullptr ? 1 : 0);
+    if (fabric != nullptr) {
+      fabric->Bind(scene_program_, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
+    } else {
+      scene_program_.Set("u_base_colour", object.has_base_colour() ? ToGlm(object.base_colour()) : glm::vec3(0.8f));
+    }
     buffers[i]->Draw();
   }
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glEndQuery(GL_TIME_ELAPSED);
 
   RenderedFrame frame;

@@ -1,8 +1,9 @@
 #pragma once
 // The `svbrdf` frame renderer (DESIGN.md "Renderers"): rasterises a scene with
 // OpenGL 4.5 core through EGL — the same code on an NVIDIA GPU and on llvmpipe —
-// with macro-scale shadow maps and MSAA. Objects without a fabric are Lambertian in
-// their base colour.
+// with macro-scale shadow maps and MSAA. Cloth is shaded per fragment from its
+// fitted BRDF array (core/shaders/fabric.glsl); objects without a fabric are
+// Lambertian in their base colour.
 //
 // Light units: a directional light's colour × intensity is the irradiance it brings
 // at normal incidence; a point light's is its intensity (irradiance = I / d²);
@@ -14,6 +15,7 @@
 #include "core/gl/egl_context.h"
 #include "core/gl/shader_program.h"
 #include "core/image/image.h"
+#include "core/render/fabric_textures.h"
 #include "core/render/shadow_maps.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/scene.pb.h"
@@ -31,8 +33,10 @@ class SvbrdfRenderer {
   // Compiles the programs once; a worker keeps one renderer for every frame.
   explicit SvbrdfRenderer(gl::EglContext& context);
 
-  // `scene` with defaults applied and validated; `meshes` = BuildSceneGeometry(scene).
-  RenderedFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes);
+  // `scene` with defaults applied and validated; `meshes` = BuildSceneGeometry(scene);
+  // `fabrics[i]` the fitted fabric of meshes[i], or null for a plain object.
+  RenderedFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                       const std::vector<const FabricTextures*>& fabrics);
 
  private:
   gl::EglContext& context_;

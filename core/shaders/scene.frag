@@ -1,8 +1,10 @@
 #version 450 core
-// Scene objects without a fabric: Lambertian in their base colour under the scene's
-// lights (with macro-scale shadows) and ambient light. Output: linear radiance.
+// Every scene object. Cloth carries a fitted fabric (fabric.glsl): per-fragment
+// evaluation of the fitted BRDF array, alpha for holes. Other objects are
+// Lambertian in their base colour. Both under the scene's lights with macro-scale
+// shadows and ambient light. Output: linear radiance; alpha drives coverage.
 
-#include "lights.glsl"
+#include "fabric.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;
@@ -11,13 +13,33 @@ in vec2 v_uv;
 
 uniform vec3 u_base_colour;
 uniform vec3 u_ambient;
+uniform vec3 u_eye;
+// Orthographic cameras look along one direction: towards the viewer, normalised.
+uniform bool u_orthographic;
+uniform vec3 u_towards_viewer;
+uniform bool u_has_fabric;
+// With MSAA, alpha becomes sample coverage (GL_SAMPLE_ALPHA_TO_COVERAGE) and holes
+// show what lies behind them in any draw order; without it, alpha < ½ is a hole.
+uniform bool u_alpha_to_coverage;
 
 layout(location = 0) out vec4 o_radiance;
 
 void main() {
   vec3 n = normalize(v_normal);
-  // Meshes are lit from either side: a cloth's back face shades like its front.
+  // Meshes are lit from either side: seen from behind, a surface turns its frame
+  // (the normal and with it the bitangent) towards the viewer.
   if (!gl_FrontFacing) n = -n;
+
+  if (u_has_fabric) {
+    vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));
+    vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0);
+    vec3 view = u_orthographic ? u_towards_viewer : normalize(u_eye - v_position);
+    vec4 shaded = ShadeFabric(v_uv, v_position, n, t, b, view, u_ambient);
+    if (!u_alpha_to_coverage && shaded.a < 0.5) discard;
+    o_radiance = shaded;
+    return;
+  }
+
   vec3 radiance = u_ambient * u_base_colour;
   for (int i = 0; i < u_light_count; ++i) {
     vec3 irradiance;

@@ -16,7 +16,7 @@ RenderedFrame RenderJson(const std::string& json) {
   ValidateOrThrow(scene);
   static const auto context = gl::EglContext::Create();
   static SvbrdfRenderer renderer(*context);
-  return renderer.Render(scene, BuildSceneGeometry(scene, FileMeshResolver(".")));
+  return renderer.Render(scene, BuildSceneGeometry(scene, FileMeshResolver(".")), {});
 }
 
 // A 2 x 2 plane seen straight down by an orthographic camera that frames it exactly.
@@ -93,6 +93,114 @@ TEST(SvbrdfRenderer, MsaaAveragesEdgesAgainstTheBackground) {
       if (v > 0.01f && v < 0.99f) ++partial;
     }
   EXPECT_GT(partial, 20);
+}
+
+}  // namespace
+}  // namespace loom
+
+namespace loom {
+namespace {
+
+// A fabric whose every texel is diffuse with albedo `albedo`, frame = the tile
+// frame, T = 1, alpha = 1, on every level of a `resolution` array with a k×k LUT.
+FabricTextureData DiffuseFabric(uint32_t resolution, uint32_t view_side, glm::vec3 albedo) {
+  FabricTextureData data;
+  uint32_t levels = 0;
+  while ((resolution >> levels) > 0) ++levels;
+  data.Allocate(resolution, 0, view_side, levels);
+  for (uint32_t level = 0; level < levels; ++level) {
+    const uint32_t r = data.LevelResolution(level);
+    for (uint32_t y = 0; y < r; ++y)
+      for (uint32_t x = 0; x < r; ++x) {
+        data.Param(level, 0, x, y) = glm::vec4(albedo / glm::pi<float>(), 0.0f);
+        data.Param(level, 1, x, y) = glm::vec4(0, 0, 1, 0);
+        data.Param(level, 2, x, y) = glm::vec4(1, 0, 0, 0);
+        for (uint32_t view = 0; view < view_side * view_side; ++view) data.Lut(level, x, y, view) = glm::vec4(1.0f);
+      }
+  }
+  return data;
+}
+
+// The plane of PlaneScene as cloth with `repeat` tiles, optionally over a red plane.
+std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR") {
+  const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
+                                      : "";
+  const std::string r = std::to_string(repeat);
+  return R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
+      "fabric": {"fabric": {"knit": {}}, "repeat_u": )" + r + R"(, "repeat_v": )" + r + "}}" + floor + R"(],
+    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2, "position": {"x": 0, "y": 0, "z": 5},
+               "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
+    "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2}],
+    "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) +
+         R"(, "level_mode": ")" + level_mode + R"("}})";
+}
+
+RenderedFrame RenderCloth(const std::string& json, const FabricTextureData& data) {
+  const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
+  ValidateOrThrow(scene);
+  static const auto context = gl::EglContext::Create();
+  static SvbrdfRenderer renderer(*context);
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
+  FabricTextures textures(data, /*half=*/false);
+  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
+  fabrics[0] = &textures;
+  return renderer.Render(scene, meshes, fabrics);
+}
+
+TEST(SvbrdfFabric, DiffuseFabricMatchesLambertExactly) {
+  const glm::vec3 albedo(0.5f, 0.25f, 0.125f);
+  const RenderedFrame frame = RenderCloth(ClothScene(4, false, 1), DiffuseFabric(8, 3, albedo));
+  for (int y = 1; y < 64; y += 9)
+    for (int x = 1; x < 64; x += 9)
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(frame.image.at(x, y, c), albedo[c] / glm::pi<float>() * 2.0f, 1e-5f);
+}
+
+TEST(SvbrdfFabric, LookupTableScalesByTheViewsEntry) {
+  // k = 3 puts a stored view exactly at the zenith (index 4), where this camera looks from.
+  FabricTextureData data = DiffuseFabric(8, 3, glm::vec3(0.5f));
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x) data.Lut(level, x, y, 4) = glm::vec4(0.5f, 1.0f, 1.5f, 1.0f);
+  const RenderedFrame frame = RenderCloth(ClothScene(4, false, 1), data);
+  const float base = 0.5f / glm::pi<float>() * 2.0f;
+  EXPECT_NEAR(frame.image.at(20, 30, 0), 0.5f * base, 1e-5f);
+  EXPECT_NEAR(frame.image.at(20, 30, 1), 1.0f * base, 1e-5f);
+  EXPECT_NEAR(frame.image.at(20, 30, 2), 1.5f * base, 1e-5f);
+}
+
+TEST(SvbrdfFabric, HolesShowTheRedPlaneBehind) {
+  // A white fabric whose texel (0, 0) of a 2×2 array is a hole from every view.
+  FabricTextureData data = DiffuseFabric(2, 3, glm::vec3(1.0f));
+  for (uint32_t view = 0; view < 9; ++view) data.Lut(0, 0, 0, view).a = 0.0f;
+  for (int msaa : {1, 4}) {
+    const RenderedFrame frame = RenderCloth(ClothScene(2, true, msaa, "LEVEL_MODE_NONE"), data);
+    // Two tiles across 64 px: texel (0,0) of the first tile covers pixels x 0–15 and
+    // image rows 48–63 (tile y grows upwards).
+    const float white = 1.0f / glm::pi<float>() * 2.0f;
+    EXPECT_NEAR(frame.image.at(8, 56, 0), 1.0f / glm::pi<float>() * 2.0f, 1e-5f) << msaa;  // red floor, lit
+    EXPECT_NEAR(frame.image.at(8, 56, 1), 0.0f, 1e-6f) << msaa;
+    EXPECT_NEAR(frame.image.at(24, 56, 1), white, 1e-5f) << msaa;  // texel (1, 0): cloth
+    EXPECT_NEAR(frame.image.at(8, 40, 1), white, 1e-5f) << msaa;   // texel (0, 1): cloth
+  }
+}
+
+TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {
+  // Each level a different grey: the image shows which level was used.
+  FabricTextureData data = DiffuseFabric(4, 3, glm::vec3(0.0f));
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(0.1f * (level + 1)), 0.0f);
+  // ρ itself is the grey: radiance = ρ · E with E = 2 from the zenith.
+  const auto grey = [](const RenderedFrame& frame) { return frame.image.at(30, 30, 0) / 2.0f; };
+  // 64 tiles over 64 px at 4 texels a tile: 4 level-0 texels a pixel, λ = 2.
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(64, false, 1, "LEVEL_MODE_NEAREST"), data)), 0.3f, 1e-5f);
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(64, false, 1, "LEVEL_MODE_NONE"), data)), 0.1f, 1e-5f);
+  // 16 tiles: one texel a pixel, λ = 0.
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(16, false, 1, "LEVEL_MODE_NEAREST"), data)), 0.1f, 1e-5f);
+  // 32 tiles: λ = 1 between levels 0 and 2 for trilinear too.
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(32, false, 1, "LEVEL_MODE_TRILINEAR"), data)), 0.2f, 2e-3f);
 }
 
 }  // namespace

@@ -1,0 +1,71 @@
+#include "core/render/fabric_textures.h"
+
+#include "core/util/error.h"
+
+namespace loom {
+
+void FabricTextureData::Allocate(uint32_t resolution_, uint32_t lobes_, uint32_t view_side_, uint32_t levels) {
+  resolution = resolution_;
+  lobes = lobes_;
+  view_side = view_side_;
+  params.assign(levels, {});
+  lut.assign(levels, {});
+  for (uint32_t level = 0; level < levels; ++level) {
+    const size_t r = LevelResolution(level);
+    params[level].assign(kFabricParamLayers * r * r, glm::vec4(0.0f));
+    lut[level].assign(r * view_side * r * view_side, glm::vec4(0.0f));
+  }
+}
+
+FabricTextures::FabricTextures(const FabricTextureData& data, bool half)
+    : resolution_(data.resolution), lobes_(data.lobes), view_side_(data.view_side), levels_(data.levels()) {
+  if (levels_ == 0 || resolution_ == 0 || view_side_ == 0 || (resolution_ >> (levels_ - 1)) == 0) {
+    throw Error(ErrorCode::kInvalidArgument, "fabric textures: empty or inconsistent levels");
+  }
+  const GLenum format = half ? GL_RGBA16F : GL_RGBA32F;
+  const auto r = static_cast<GLsizei>(resolution_);
+  const auto k = static_cast<GLsizei>(view_side_);
+  const auto levels = static_cast<GLsizei>(levels_);
+
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &params_);
+  glTextureStorage3D(params_, levels, format, r, r, kFabricParamLayers);
+  glCreateTextures(GL_TEXTURE_2D, 1, &lut_);
+  glTextureStorage2D(lut_, levels, format, r * k, r * k);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  for (GLint level = 0; level < levels; ++level) {
+    const GLsizei side = r >> level;
+    glTextureSubImage3D(params_, level, 0, 0, 0, side, side, kFabricParamLayers, GL_RGBA, GL_FLOAT,
+                        data.params[static_cast<size_t>(level)].data());
+    glTextureSubImage2D(lut_, level, 0, 0, side * k, side * k, GL_RGBA, GL_FLOAT,
+                        data.lut[static_cast<size_t>(level)].data());
+  }
+  // Parameters are fetched texel by texel (a BRDF is not linear in them); the LUT
+  // is filtered linearly inside one level, and levels are chosen by the shader.
+  glTextureParameteri(params_, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  glTextureParameteri(params_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(lut_, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+  glTextureParameteri(lut_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(lut_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(lut_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(lut_, GL_TEXTURE_MAX_LEVEL, levels - 1);
+  glTextureParameteri(params_, GL_TEXTURE_MAX_LEVEL, levels - 1);
+}
+
+FabricTextures::~FabricTextures() {
+  glDeleteTextures(1, &params_);
+  glDeleteTextures(1, &lut_);
+}
+
+void FabricTextures::Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const {
+  glBindTextureUnit(static_cast<GLuint>(first_unit), params_);
+  glBindTextureUnit(static_cast<GLuint>(first_unit + 1), lut_);
+  program.Set("u_fabric_params", first_unit);
+  program.Set("u_fabric_lut", first_unit + 1);
+  program.Set("u_fabric_lobes", static_cast<int>(lobes_));
+  program.Set("u_fabric_levels", static_cast<int>(levels_));
+  program.Set("u_fabric_resolution", static_cast<int>(resolution_));
+  program.Set("u_fabric_view_side", static_cast<int>(view_side_));
+  program.Set("u_fabric_repeat", repeat);
+}
+
+}  // namespace loom

@@ -1,0 +1,106 @@
+// A fitted fabric on the GPU (layout: core/render/fabric_textures.h), evaluated per
+// fragment: the texel from the tile coordinate, the level from its screen
+// footprint, T(v) and alpha from the lookup table, f_1 from the lobes — the whole
+// BRDF of Daubert 2001 eq. 1–2 in the shader, with the paper's two mappings:
+// world → surface frame (mesh normal, tangent along +u), then surface → texel frame
+// (the texel's fitted normal and tangent). The surface frame is the tile's frame:
+// tile x along u, y along v, z along the normal.
+
+#include "hemisphere_map.glsl"
+#include "lafortune.glsl"
+#include "lights.glsl"
+
+uniform sampler2DArray u_fabric_params;  // mip ℓ = fitted level ℓ
+uniform sampler2D u_fabric_lut;          // mip ℓ: (res_ℓ·k)² atlas of k×k view blocks
+uniform int u_fabric_lobes;
+uniform int u_fabric_levels;
+uniform int u_fabric_resolution;         // level-0 texels per tile side
+uniform int u_fabric_view_side;          // k: the LUT's view grid is k×k
+uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
+uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear (LevelMode)
+
+// A texel of one level; its frame is in tile (= surface) space.
+struct FabricTexel {
+  LafortuneBrdf brdf;
+  vec3 normal;
+  vec3 tangent;
+  vec3 bitangent;
+  vec4 lut;  // T(v).rgb, alpha(v)
+};
+
+vec3 ToTexelFrame(FabricTexel t, vec3 d) { return vec3(dot(t.tangent, d), dot(t.bitangent, d), dot(t.normal, d)); }
+
+// `view` in the surface frame.
+FabricTexel FetchFabricTexel(vec2 tile, int level, vec3 view) {
+  int resolution = max(u_fabric_resolution >> level, 1);
+  ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
+  FabricTexel t;
+  t.brdf.rho = texelFetch(u_fabric_params, ivec3(texel, 0), level).rgb;
+  t.normal = texelFetch(u_fabric_params, ivec3(texel, 1), level).xyz;
+  t.tangent = texelFetch(u_fabric_params, ivec3(texel, 2), level).xyz;
+  t.bitangent = cross(t.normal, t.tangent);
+  for (int i = 0; i < kMaxLobes; ++i) {
+    vec4 x = texelFetch(u_fabric_params, ivec3(texel, 3 + 3 * i), level);
+    vec4 y = texelFetch(u_fabric_params, ivec3(texel, 4 + 3 * i), level);
+    vec4 z = texelFetch(u_fabric_params, ivec3(texel, 5 + 3 * i), level);
+    t.brdf.cx[i] = x.rgb;
+    t.brdf.cy[i] = y.rgb;
+    t.brdf.cz[i] = z.rgb;
+    t.brdf.n[i] = vec3(x.a, y.a, z.a);
+  }
+  // T(v) between the stored views (acquisition's views, in tile space): bilinear
+  // inside this texel's k×k block. The grid coordinate is clamped to the block, so
+  // the filter never reads a neighbour.
+  float k = float(u_fabric_view_side);
+  vec2 grid = clamp(HemisphereGridCoordinates(view, k), vec2(0.0), vec2(k - 1.0));
+  vec2 atlas = (vec2(texel) * k + grid + 0.5) / (float(resolution) * k);
+  t.lut = textureLod(u_fabric_lut, atlas, float(level));
+  return t;
+}
+
+// The continuous level λ from the screen footprint of the tile coordinate, in
+// level-0 texels; the mode picks level 0, the nearest level or the two nearest.
+void FabricLevels(vec2 tile, out int level0, out int level1, out float blend) {
+  vec2 dx = dFdx(tile) * float(u_fabric_resolution);
+  vec2 dy = dFdy(tile) * float(u_fabric_resolution);
+  float lambda = clamp(log2(max(max(length(dx), length(dy)), 1e-8)), 0.0, float(u_fabric_levels - 1));
+  if (u_level_mode == 1) lambda = 0.0;
+  if (u_level_mode == 2) lambda = floor(lambda + 0.5);
+  level0 = int(floor(lambda));
+  level1 = min(level0 + 1, u_fabric_levels - 1);
+  blend = lambda - float(level0);
+}
+
+// Radiance (rgb) and coverage alpha of one level, for unit `view` and the lights
+// mapped into the surface frame by `to_surface` (rows T, B, N).
+vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
+  FabricTexel t = FetchFabricTexel(tile, level, view);
+  vec3 v = ToTexelFrame(t, view);
+  // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
+  vec3 radiance = ambient * kPi * t.brdf.rho;
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 irradiance;
+    vec3 world_light = LightDirection(i, position, irradiance);
+    vec3 l = ToTexelFrame(t, to_surface * world_light);
+    radiance += irradiance * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v) * LightVisibility(i, position, normal);
+  }
+  return vec4(t.lut.rgb * radiance, t.lut.a);
+}
+
+// The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
+// (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
+// is the unit world direction to the eye.
+vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitangent, vec3 towards_viewer,
+                 vec3 ambient) {
+  mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
+  vec3 view = to_surface * towards_viewer;
+  vec2 tile = uv * u_fabric_repeat;
+  int level0, level1;
+  float blend;
+  FabricLevels(tile, level0, level1, blend);
+  vec4 result = ShadeFabricLevel(tile, level0, view, to_surface, position, normal, ambient);
+  if (blend > 0.0) {
+    result = mix(result, ShadeFabricLevel(tile, level1, view, to_surface, position, normal, ambient), blend);
+  }
+  return result;
+}

@@ -1,0 +1,26 @@
+// The Lafortune model of core/fit/lafortune_brdf.h (Daubert 2001 eq. 2), per RGB
+// channel, for unit directions in the texel's local frame:
+//   f_1(l, v) = l_z · (ρ + Σ_i [C_x,i l_x v_x + C_y,i l_y v_y + C_z,i l_z v_z]^{N_i}),
+// [a]^N = 0 for a ≤ 0. The lookup table T(v) multiplies it outside.
+
+const int kMaxLobes = 3;
+
+struct LafortuneBrdf {
+  vec3 rho;
+  vec3 cx[kMaxLobes];
+  vec3 cy[kMaxLobes];
+  vec3 cz[kMaxLobes];
+  vec3 n[kMaxLobes];
+};
+
+vec3 EvaluateLafortune(LafortuneBrdf brdf, int lobes, vec3 l, vec3 v) {
+  if (l.z <= 0.0) return vec3(0.0);
+  vec3 sum = brdf.rho;
+  vec3 a = l * v;
+  for (int i = 0; i < lobes; ++i) {
+    vec3 dot_c = brdf.cx[i] * a.x + brdf.cy[i] * a.y + brdf.cz[i] * a.z;
+    // pow(x, N) for x > 0 only; max() keeps pow's argument in its domain.
+    sum += mix(vec3(0.0), pow(max(dot_c, vec3(1e-30)), brdf.n[i]), greaterThan(dot_c, vec3(0.0)));
+  }
+  return l.z * sum;
+}
