@@ -8,6 +8,7 @@ find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache
 find_package(CLI11 REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(tinyobjloader REQUIRED)    # OBJ meshes in scenes
+find_package(embree 3 REQUIRED)         # ray casting for acquisition
 
 set(OpenGL_GL_PREFERENCE GLVND)
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
@@ -23,4 +24,5 @@ endif()
 
 if(LOOM_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  find_package(benchmark REQUIRED)      # Google Benchmark, for the timing executables
 endif()

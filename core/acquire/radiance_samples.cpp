@@ -1,0 +1,168 @@
+#include "core/acquire/radiance_samples.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <utility>
+
+#include "core/spec/limits.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+#include "core/util/sha256.h"
+
+namespace loom {
+namespace {
+
+// The file stores the in-memory representation; a big-endian host would need swaps.
+static_assert(std::endian::native == std::endian::little, "the samples file is little-endian");
+static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 must be three packed floats");
+
+constexpr char kMagic[8] = {'L', 'O', 'O', 'M', 'R', 'S', 'M', 'P'};
+constexpr uint32_t kVersion = 1;
+constexpr size_t kHeaderBytes = sizeof kMagic + 4 * sizeof(uint32_t);
+constexpr size_t kChecksumBytes = 64;  // SHA-256 as hex
+
+template <typename T>
+void Append(std::string& out, const std::vector<T>& values) {
+  out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+void AppendU32(std::string& out, uint32_t value) { out.append(reinterpret_cast<const char*>(&value), sizeof value); }
+
+// Reads the fields in file order; the caller has checked the total size.
+class Reader {
+ public:
+  explicit Reader(std::string_view bytes) : bytes_(bytes) {}
+  uint32_t U32() {
+    uint32_t value;
+    std::memcpy(&value, Take(sizeof value), sizeof value);
+    return value;
+  }
+  template <typename T>
+  void Fill(std::vector<T>& values, size_t count) {
+    values.resize(count);
+    std::memcpy(values.data(), Take(count * sizeof(T)), count * sizeof(T));
+  }
+
+ private:
+  const char* Take(size_t n) {
+    const char* at = bytes_.data() + offset_;
+    offset_ += n;
+    return at;
+  }
+  std::string_view bytes_;
+  size_t offset_ = 0;
+};
+
+template <typename T>
+bool AllFinite(const std::vector<T>& values) {
+  const auto* floats = reinterpret_cast<const float*>(values.data());
+  return std::all_of(floats, floats + values.size() * sizeof(T) / sizeof(float),
+                     [](float f) { return std::isfinite(f); });
+}
+
+}  // namespace
+
+RadianceSamples::RadianceSamples(uint32_t resolution, std::vector<glm::vec3> views, std::vector<glm::vec3> lights)
+    : resolution(resolution),
+      view_directions(std::move(views)),
+      light_directions(std::move(lights)),
+      normals(texel_count(), glm::vec3(0, 0, 1)),
+      tangents(texel_count(), glm::vec3(1, 0, 0)),
+      alpha(texel_count() * view_count(), 0.0f),
+      radiance(texel_count() * view_count() * light_count(), glm::vec3(0.0f)) {}
+
+double RadianceSamples::MeanAlpha() const {
+  if (alpha.empty()) return 0.0;
+  return std::accumulate(alpha.begin(), alpha.end(), 0.0) / static_cast<double>(alpha.size());
+}
+
+std::string EncodeRadianceSamples(const RadianceSamples& s) {
+  // A file whose arrays disagree with its dimensions could never be read back.
+  const size_t texels = s.texel_count();
+  if (s.normals.size() != texels || s.tangents.size() != texels || s.alpha.size() != texels * s.view_count() ||
+      s.radiance.size() != texels * s.view_count() * s.light_count()) {
+    throw Error(ErrorCode::kInvalidArgument, "radiance samples: array sizes do not match " +
+                                                 std::to_string(s.resolution) + "² texels × " +
+                                                 std::to_string(s.view_count()) + " views × " +
+                                                 std::to_string(s.light_count()) + " lights");
+  }
+  std::string out(kMagic, sizeof kMagic);
+  AppendU32(out, kVersion);
+  AppendU32(out, s.resolution);
+  AppendU32(out, static_cast<uint32_t>(s.view_count()));
+  AppendU32(out, static_cast<uint32_t>(s.light_count()));
+  Append(out, s.view_directions);
+  Append(out, s.light_directions);
+  Append(out, s.normals);
+  Append(out, s.tangents);
+  Append(out, s.alpha);
+  Append(out, s.radiance);
+  out += Sha256Hex(out);
+  return out;
+}
+
+RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string& source) {
+  auto fail = [&](const std::string& why) {
+    return Error(ErrorCode::kInvalidArgument, "radiance samples " + source + ": " + why);
+  };
+  if (bytes.size() < kHeaderBytes + kChecksumBytes || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
+    throw fail("not a radiance samples file (no LOOMRSMP header)");
+  }
+  // The checksum first: dimensions from a damaged header must not drive allocation.
+  const std::string_view body = bytes.substr(0, bytes.size() - kChecksumBytes);
+  const std::string_view stored = bytes.substr(body.size());
+  const std::string computed = Sha256Hex(body);
+  if (stored != computed) {
+    throw fail("checksum mismatch (stored " + std::string(stored.substr(0, 12)) + "…, computed " +
+               computed.substr(0, 12) + "…): the file is corrupt or truncated");
+  }
+
+  Reader in(body.substr(sizeof kMagic));
+  const uint32_t version = in.U32();
+  if (version != kVersion) {
+    throw fail("version " + std::to_string(version) + "; this build reads version " + std::to_string(kVersion));
+  }
+  RadianceSamples s;
+  s.resolution = in.U32();
+  const uint32_t views = in.U32();
+  const uint32_t lights = in.U32();
+  const auto in_range = [](uint32_t count, uint32_t min, uint32_t max) { return count >= min && count <= max; };
+  const auto grid = [&](uint32_t count) {
+    const auto side = static_cast<uint32_t>(std::lround(std::sqrt(static_cast<double>(count))));
+    return in_range(count, kMinDirections, kMaxDirections) && side * side == count;
+  };
+  const size_t texels = s.texel_count();
+  if (!in_range(s.resolution, kMinSpatialResolution, kMaxSpatialResolution) || !grid(views) || !grid(lights) ||
+      texels * views * lights > kMaxRadianceSamples) {
+    throw fail("dimensions " + std::to_string(s.resolution) + "² texels × " + std::to_string(views) + " views × " +
+               std::to_string(lights) + " lights are not k×k direction grids within the caps of core/spec/limits.h");
+  }
+  const size_t floats = 3 * (views + lights) + 6 * texels + texels * views + 3 * texels * views * lights;
+  if (body.size() != kHeaderBytes + floats * sizeof(float)) {
+    throw fail("size " + std::to_string(bytes.size()) + " bytes does not match its dimensions");
+  }
+  in.Fill(s.view_directions, views);
+  in.Fill(s.light_directions, lights);
+  in.Fill(s.normals, texels);
+  in.Fill(s.tangents, texels);
+  in.Fill(s.alpha, texels * views);
+  in.Fill(s.radiance, texels * views * lights);
+  if (!(AllFinite(s.view_directions) && AllFinite(s.light_directions) && AllFinite(s.normals) &&
+        AllFinite(s.tangents) && AllFinite(s.alpha) && AllFinite(s.radiance))) {
+    throw fail("contains a non-finite number");
+  }
+  return s;
+}
+
+void WriteRadianceSamples(const RadianceSamples& samples, const std::filesystem::path& path) {
+  WriteFileAtomic(path, EncodeRadianceSamples(samples));
+}
+
+RadianceSamples ReadRadianceSamples(const std::filesystem::path& path) {
+  return DecodeRadianceSamples(ReadFile(path), path.string());
+}
+
+}  // namespace loom
