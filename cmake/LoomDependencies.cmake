@@ -9,6 +9,7 @@ find_package(CLI11 REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(tinyobjloader REQUIRED)    # OBJ meshes in scenes
 find_package(embree 3 REQUIRED)         # ray casting for acquisition
+find_package(Ceres REQUIRED)            # Levenberg–Marquardt lobe fitting (pulls glog, gflags)
 
 set(OpenGL_GL_PREFERENCE GLVND)
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)

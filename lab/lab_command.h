@@ -27,6 +27,9 @@ LabCommand AddTestSceneCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags);
 
 // Shared by the GL subcommands: --software, and the context it asks for.
 struct GlFlags {

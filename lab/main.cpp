@@ -22,6 +22,9 @@ int Main(int argc, char** argv) {
       AddTestSceneCommand(app, flags),
       AddValidateCommand(app, flags),
       AddKeyCommand(app, flags),
+      AddGeometryCommand(app, flags),
+      AddAcquireCommand(app, flags),
+      AddRenderCommand(app, flags),
       AddCompareCommand(app, flags),
   };
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;

@@ -1,5 +1,8 @@
 #include "core/render/fabric_textures.h"
 
+#include <cmath>
+#include <string>
+
 #include "core/util/error.h"
 
 namespace loom {
@@ -15,6 +18,43 @@ void FabricTextureData::Allocate(uint32_t resolution_, uint32_t lobes_, uint32_t
     params[level].assign(kFabricParamLayers * r * r, glm::vec4(0.0f));
     lut[level].assign(r * view_side * r * view_side, glm::vec4(0.0f));
   }
+}
+
+FabricTextureData FabricTextureData::FromFit(const FittedFabric& fit) {
+  FabricTextureData data;
+  const auto views = static_cast<uint32_t>(fit.view_directions.size());
+  const auto view_side = static_cast<uint32_t>(std::lround(std::sqrt(static_cast<double>(views))));
+  if (fit.levels.empty() || view_side * view_side != views) {
+    throw Error(ErrorCode::kInvalidArgument, "fitted fabric: no levels, or a view count that is not k²");
+  }
+  data.Allocate(fit.levels[0].resolution, fit.lobes, view_side, static_cast<uint32_t>(fit.levels.size()));
+  for (uint32_t level = 0; level < data.levels(); ++level) {
+    const FittedLevel& fitted = fit.levels[level];
+    if (fitted.resolution != data.LevelResolution(level)) {
+      throw Error(ErrorCode::kInvalidArgument, "fitted fabric: level " + std::to_string(level) + " has resolution " +
+                                                   std::to_string(fitted.resolution) + ", expected " +
+                                                   std::to_string(data.LevelResolution(level)));
+    }
+    for (uint32_t y = 0; y < fitted.resolution; ++y) {
+      for (uint32_t x = 0; x < fitted.resolution; ++x) {
+        const size_t texel = size_t{y} * fitted.resolution + x;
+        const LafortuneBrdf& brdf = fitted.brdfs[texel];
+        data.Param(level, 0, x, y) = glm::vec4(brdf.rho, 0.0f);
+        data.Param(level, 1, x, y) = glm::vec4(fitted.normals[texel], 0.0f);
+        data.Param(level, 2, x, y) = glm::vec4(fitted.tangents[texel], 0.0f);
+        for (uint32_t i = 0; i < kMaxLafortuneLobes; ++i) {
+          const LafortuneLobe& lobe = brdf.lobes[i];
+          data.Param(level, 3 + 3 * i, x, y) = glm::vec4(lobe.cx, lobe.n.r);
+          data.Param(level, 4 + 3 * i, x, y) = glm::vec4(lobe.cy, lobe.n.g);
+          data.Param(level, 5 + 3 * i, x, y) = glm::vec4(lobe.cz, lobe.n.b);
+        }
+        for (uint32_t view = 0; view < views; ++view) {
+          data.Lut(level, x, y, view) = glm::vec4(fitted.lut[texel * views + view], fitted.alpha[texel * views + view]);
+        }
+      }
+    }
+  }
+  return data;
 }
 
 FabricTextures::FabricTextures(const FabricTextureData& data, bool half)

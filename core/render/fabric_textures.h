@@ -22,6 +22,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/fit/fabric_fit.h"
 #include "core/gl/shader_program.h"
 
 namespace loom {
@@ -48,8 +49,11 @@ struct FabricTextureData {
     const uint32_t row = LevelResolution(level) * view_side;
     return lut[level][size_t{y * view_side + view / view_side} * row + x * view_side + view % view_side];
   }
-  // Zeroed storage for every level down to 1×1 (or `levels` levels).
+  // Zeroed storage for `levels` levels.
   void Allocate(uint32_t resolution, uint32_t lobes, uint32_t view_side, uint32_t levels);
+
+  // The layout above, filled from a fit.
+  static FabricTextureData FromFit(const FittedFabric& fit);
 };
 
 class FabricTextures {

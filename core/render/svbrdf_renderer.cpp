@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/gl/framebuffer.h"
+#include "core/gl/gpu_timer.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/scene/camera.h"
 
@@ -84,9 +85,8 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
     casters.push_back(buffers.back().get());
   }
 
-  GLuint timer = 0;
-  glCreateQueries(GL_TIME_ELAPSED, 1, &timer);
-  glBeginQuery(GL_TIME_ELAPSED, timer);
+  gl::GpuTimer timer;
+  timer.Start();
 
   SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, scene_program_);
 
@@ -124,14 +124,11 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
     buffers[i]->Draw();
   }
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glEndQuery(GL_TIME_ELAPSED);
+  timer.Stop();
 
   RenderedFrame frame;
   frame.image = target.ReadPixels();
-  GLuint64 elapsed_ns = 0;
-  glGetQueryObjectui64v(timer, GL_QUERY_RESULT, &elapsed_ns);
-  glDeleteQueries(1, &timer);
-  frame.gpu_ms = static_cast<double>(elapsed_ns) * 1e-6;
+  frame.gpu_ms = timer.Milliseconds();
   frame.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return frame;
 }

@@ -25,7 +25,7 @@ namespace loom {
 struct RenderedFrame {
   Image image;          // linear radiance, RGBA (alpha 1)
   double cpu_ms = 0.0;  // wall time of Render, upload and read-back included
-  double gpu_ms = 0.0;  // GL_TIME_ELAPSED of the shadow and main passes
+  double gpu_ms = 0.0;  // GPU time of the shadow and main passes (GL timestamps)
 };
 
 class SvbrdfRenderer {

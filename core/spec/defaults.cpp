@@ -16,7 +16,7 @@ constexpr uint32_t kDefaultIndirectBounces = 1;
 constexpr uint32_t kDefaultSupersampling = 2;  // 2×2 rays per texel
 
 // FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
-constexpr float kDefaultKnitYarnRadius = 0.15f;
+constexpr float kDefaultKnitYarnRadius = 0.07f;
 constexpr float kDefaultWovenYarnRadius = 0.25f;
 constexpr uint32_t kDefaultPlies = 1;
 constexpr float kDefaultRoughness = 0.5f;

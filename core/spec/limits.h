@@ -48,9 +48,14 @@ inline constexpr uint32_t kMaxSupersampling = 8;
 // but acquisition shades every yarn and the tile must stay small.
 inline constexpr int kMinYarns = 1;
 inline constexpr int kMaxYarns = 16;
-// Yarn radius as a fraction of the loop width (knit) or yarn pitch (woven): above
-// 0.5 neighbouring yarns interpenetrate.
+// Yarn radius as a fraction of the yarn pitch (woven): above 0.5 neighbouring
+// yarns interpenetrate.
 inline constexpr float kMaxYarnRadius = 0.5f;
+// Yarn radius as a fraction of the loop width (knit): where loops interlock, four
+// yarns cross at one height and depth within a wale, so round yarns jam near 1/8 of
+// the loop width; Loom's loops hold 0.08 at every loop aspect without the yarns
+// passing through each other (core/fabric/knit_tile.h).
+inline constexpr float kMaxKnitYarnRadius = 0.08f;
 // Plies twisted into one yarn; each ply is its own swept tube.
 inline constexpr uint32_t kMaxPlies = 8;
 // Ply twist angle in degrees, either handedness.
@@ -63,11 +68,14 @@ inline constexpr float kAlbedoSumTolerance = 1e-5f;
 inline constexpr uint32_t kMaxRibWidth = 16;
 // Loops per tile side (wales across, courses down); the tile is one periodic unit.
 inline constexpr uint32_t kMaxLoopsPerTileSide = 32;
-// Loop width : height; outside [0.5, 2] the key-point loop model degenerates.
+// Loop width : height. Real knits run about 1.2-1.5; below 0.5 the key-point loop
+// model degenerates, and above 1.5 the head of one course comes so close to the
+// sinker two courses up that random loop offsets make the yarns touch.
 inline constexpr float kMinLoopAspect = 0.5f;
-inline constexpr float kMaxLoopAspect = 2.0f;
-// Loop jitter in yarn radii; above 1 neighbouring loops collide.
-inline constexpr float kMaxLoopJitter = 1.0f;
+inline constexpr float kMaxLoopAspect = 1.5f;
+// Loop jitter (standard deviation of key-point offsets) in yarn radii: at the
+// thickest knit yarn, 0.1 keeps 13% clearance between loops, 0.2 already touches.
+inline constexpr float kMaxLoopJitter = 0.1f;
 
 // Twill floats: n over, m under.
 inline constexpr uint32_t kMinTwillFloat = 1;

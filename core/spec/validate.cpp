@@ -245,10 +245,14 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
 
 // --- FabricSpec ----------------------------------------------------------------------
 
-void CheckYarn(const v1::YarnSpec& yarn, const IssueCollector& at) {
+void CheckYarn(const v1::YarnSpec& yarn, bool knit, const IssueCollector& at) {
   at.Length("name", yarn.name(), kMaxNameLength);
   at.Above("radius", yarn.radius(), 0.0f);
-  at.Max("radius", yarn.radius(), kMaxYarnRadius);
+  if (knit) {
+    at.Max("radius", yarn.radius(), kMaxKnitYarnRadius, "for a knit: thicker yarns jam where loops interlock");
+  } else {
+    at.Max("radius", yarn.radius(), kMaxYarnRadius);
+  }
   at.Range("plies", yarn.plies(), 1, kMaxPlies);
   at.Range("twist_degrees", yarn.twist_degrees(), -kMaxTwistDegrees, kMaxTwistDegrees);
   at.Range("fuzz", yarn.fuzz(), 0.0f, 1.0f);
@@ -343,7 +347,7 @@ void CheckFabric(const v1::FabricSpec& fabric, const IssueCollector& at) {
     return;
   }
   at.Range("yarns", fabric.yarns_size(), kMinYarns, kMaxYarns);
-  for (int i = 0; i < fabric.yarns_size(); ++i) CheckYarn(fabric.yarns(i), at.Element("yarns", i));
+  for (int i = 0; i < fabric.yarns_size(); ++i) CheckYarn(fabric.yarns(i), fabric.has_knit(), at.Element("yarns", i));
   if (fabric.has_knit()) {
     CheckKnit(fabric.knit(), fabric.yarns_size(), at.Field("knit"));
   } else {

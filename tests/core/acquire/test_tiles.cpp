@@ -108,18 +108,4 @@ FabricTile Merge(const FabricTile& a, const FabricTile& b) {
   return tile;
 }
 
-FabricTile ManyTubes() {
-  YarnMaterial material;
-  material.diffuse_albedo = {0.6f, 0.3f, 0.2f};
-  material.specular_albedo = glm::vec3(0.04f);
-  material.specular_exponent = 32.0f;
-  std::vector<Tube> tubes;
-  for (int i = 0; i < 8; ++i) {
-    const float offset = (static_cast<float>(i) + 0.5f) / 8.0f;
-    tubes.push_back({Axis::kX, offset, 0.16f, 0.05f});
-    tubes.push_back({Axis::kY, offset, 0.05f, 0.05f});
-  }
-  return Tubes(tubes, material, 64, 24);
-}
-
 }  // namespace loom::testing

@@ -38,8 +38,4 @@ FabricTile VGrooves(const YarnMaterial& material, uint32_t segments);
 // The union of two tiles' geometry and materials; z range of both.
 FabricTile Merge(const FabricTile& a, const FabricTile& b);
 
-// A benchmark tile of ~49k triangles: 8 tubes along x above 8 tubes along y (a
-// simplified weave), 64 × 24 quads each.
-FabricTile ManyTubes();
-
 }  // namespace loom::testing

@@ -85,8 +85,10 @@ INSTANTIATE_TEST_SUITE_P(
         // Yarns.
         RuleCase{"YarnNameTooLong", R"({"knit": {}, "yarns": [{"name": ")" + std::string(300, 'y') + "\"}]}",
                  "fabric.yarns[0].name", "length 300 exceeds 256"},
-        RuleCase{"RadiusTooLarge", R"({"knit": {}, "yarns": [{"radius": 0.7}]})", "fabric.yarns[0].radius",
+        RuleCase{"RadiusTooLarge", R"({"woven": {}, "yarns": [{"radius": 0.7}]})", "fabric.yarns[0].radius",
                  "0.7 exceeds 0.5"},
+        RuleCase{"KnitRadiusTooLarge", R"({"knit": {}, "yarns": [{"radius": 0.15}]})", "fabric.yarns[0].radius",
+                 "0.15 exceeds 0.08 (for a knit: thicker yarns jam where loops interlock)"},
         RuleCase{"RadiusNegative", R"({"woven": {}, "yarns": [{}, {"radius": -0.1}]})", "fabric.yarns[1].radius",
                  "-0.1 is not above 0"},
         RuleCase{"TooManyPlies", R"({"knit": {}, "yarns": [{"plies": 9}]})", "fabric.yarns[0].plies",
@@ -127,10 +129,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "fabric.knit.wales", "5 is not a multiple of 2 (the seed pattern repeats every 2 wales)"},
         RuleCase{"LoopAspectTooSmall", R"({"knit": {"loop_aspect": 0.4}})", "fabric.knit.loop_aspect",
                  "0.4 is below 0.5"},
-        RuleCase{"LoopAspectTooLarge", R"({"knit": {"loop_aspect": 2.5}})", "fabric.knit.loop_aspect",
-                 "2.5 exceeds 2"},
-        RuleCase{"LoopJitterTooLarge", R"({"knit": {"loop_jitter": 1.5}})", "fabric.knit.loop_jitter",
-                 "1.5 exceeds 1"},
+        RuleCase{"LoopAspectTooLarge", R"({"knit": {"loop_aspect": 1.6}})", "fabric.knit.loop_aspect",
+                 "1.6 exceeds 1.5"},
+        RuleCase{"LoopJitterTooLarge", R"({"knit": {"loop_jitter": 0.15}})", "fabric.knit.loop_jitter",
+                 "0.15 exceeds 0.1"},
         RuleCase{"LoopJitterNegative", R"({"knit": {"loop_jitter": -0.5}})", "fabric.knit.loop_jitter",
                  "-0.5 is below 0"},
         RuleCase{"ColourPatternLongerThanTile", R"({"knit": {"wales": 2, "colour_pattern": [0, 0, 0]}})",
@@ -314,7 +316,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.objects[0].base_colour.r", "1.5 exceeds 1"},
         RuleCase{"BindingWithoutFabric", BoundPlane("{}"), "scene.objects[0].fabric.fabric",
                  "one of knit or woven is required"},
-        RuleCase{"BindingFabric", BoundPlane(R"({"fabric": {"knit": {}, "yarns": [{"radius": 0.7}]}})"),
+        RuleCase{"BindingFabric", BoundPlane(R"({"fabric": {"woven": {}, "yarns": [{"radius": 0.7}]}})"),
                  "scene.objects[0].fabric.fabric.yarns[0].radius", "0.7 exceeds 0.5"},
         RuleCase{"BindingPrecompute", BoundPlane(R"({"fabric": {"woven": {}}, "precompute": {"lobes": 5}})"),
                  "scene.objects[0].fabric.precompute.lobes", "5 exceeds 3"},
@@ -453,14 +455,15 @@ TEST(Validate, ReportsEveryProblemAtOnce) {
   })", "fabric");
   EXPECT_EQ(issues.size(), 7u) << FormatIssues(issues);
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[1].roughness", "NaN is not a finite number"));
-  EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0].radius", "0.7 exceeds 0.5"));
+  EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0].radius",
+                       "0.7 exceeds 0.08 (for a knit: thicker yarns jam where loops interlock)"));
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0].diffuse_albedo.r", "1.2 exceeds 1"));
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0]",
                        "diffuse_albedo.r + specular_albedo.r = 1.2 exceeds 1 (energy conservation)"));
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[1].plies", "9 exceeds 8"));
   EXPECT_TRUE(HasIssue(issues, "fabric.knit.courses",
                        "3 is not a multiple of 2 (the garter pattern repeats every 2 courses)"));
-  EXPECT_TRUE(HasIssue(issues, "fabric.knit.loop_aspect", "3 exceeds 2"));
+  EXPECT_TRUE(HasIssue(issues, "fabric.knit.loop_aspect", "3 exceeds 1.5"));
 }
 
 TEST(Validate, SceneReportsProblemsInEveryPart) {
@@ -516,7 +519,7 @@ void ExpectIdempotent(const std::string& json, std::string_view root) {
 TEST(Defaults, WithDefaultsIsIdempotent) {
   for (const char* json : {R"({})", R"({"knit": {}})", R"({"woven": {}})",
                            R"({"knit": {"pattern": "KNIT_PATTERN_RIB", "rib_knit": 2},
-                               "yarns": [{}, {"radius": 0.1}]})",
+                               "yarns": [{}, {"radius": 0.05}]})",
                            R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 8}})",
                            R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 6}})",
                            R"({"woven": {"pattern": "WEAVE_PATTERN_TWILL"}})"}) {
@@ -556,7 +559,7 @@ TEST(Defaults, KnitFabric) {
   EXPECT_FLOAT_EQ(fabric.knit().loop_aspect(), 1.25f);
   ASSERT_EQ(fabric.yarns_size(), 1);
   const v1::YarnSpec& yarn = fabric.yarns(0);
-  EXPECT_FLOAT_EQ(yarn.radius(), 0.15f);
+  EXPECT_FLOAT_EQ(yarn.radius(), 0.07f);
   EXPECT_EQ(yarn.plies(), 1u);
   EXPECT_FLOAT_EQ(yarn.roughness(), 0.5f);
   EXPECT_FLOAT_EQ(yarn.diffuse_albedo().g(), 0.5f);

@@ -1,0 +1,262 @@
+// The fitting engine's figures (issue 4): the standard fabric fit and its
+// speed-versus-accuracy points, and the derivative choice of the lobe fit.
+//
+//   loom_fit_benchmark --benchmark_filter=FitFabric/32/2/1   the standard size
+//   loom_fit_benchmark --benchmark_filter=LobeSolve          analytic vs automatic derivatives
+//
+// Input: synthetic radiance samples of a knit-like tile, rendered from known
+// per-texel Lafortune BRDFs under a coloured lookup table on bumpy normals, with
+// holes and 2% multiplicative noise (so the fit works as hard as on real samples;
+// acquisition itself is not timed here). Relative RMSE per level is the fit's RMSE
+// over a level's samples divided by their mean radiance; at coarse levels it
+// includes the spread between the pooled texels, which no single BRDF can fit.
+
+#include <benchmark/benchmark.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/constants.hpp>
+#include <random>
+#include <string>
+
+#include "core/acquire/hemisphere_directions.h"
+#include "core/fit/fabric_asset.h"
+#include "core/fit/fabric_fit.h"
+#include "core/fit/lobe_cost.h"
+#include "core/fit/texel_fit.h"
+
+namespace loom {
+namespace {
+
+constexpr uint32_t kDirections = 64;
+
+// The BRDF of texel (x, y): a sheen that varies along the yarn, like a knit's
+// loops (period 8 texels).
+LafortuneBrdf SyntheticBrdf(uint32_t x, uint32_t y) {
+  const float u = glm::two_pi<float>() * float(x) / 8.0f, w = glm::two_pi<float>() * float(y) / 8.0f;
+  LafortuneBrdf brdf;
+  brdf.lobe_count = 2;
+  brdf.rho = glm::vec3(0.20f, 0.12f, 0.08f) * (1.0f + 0.3f * std::sin(u) * std::cos(w));
+  brdf.lobes[0] = {glm::vec3(-1.0f + 0.05f * std::sin(w)), glm::vec3(-0.8f), glm::vec3(0.9f),
+                   glm::vec3(10.0f + 4.0f * std::cos(u))};
+  brdf.lobes[1] = {glm::vec3(-0.7f), glm::vec3(-0.95f), glm::vec3(0.8f), glm::vec3(5.0f)};
+  return brdf;
+}
+
+// `noise_floor`, if given, receives the relative RMSE of the noise alone (the
+// noise-free truth against the samples), the least a level-0 fit can reach.
+RadianceSamples SyntheticSamples(uint32_t resolution, double* noise_floor = nullptr) {
+  double noise_squared = 0.0, radiance_sum = 0.0;
+  size_t values = 0;
+  RadianceSamples samples(resolution, HemisphereGridDirections(kDirections), HemisphereGridDirections(kDirections));
+  for (uint32_t texel = 0; texel < samples.texel_count(); ++texel) {
+    const uint32_t x = texel % resolution, y = texel / resolution;
+    const float u = glm::two_pi<float>() * float(x) / 8.0f, w = glm::two_pi<float>() * float(y) / 8.0f;
+    const glm::vec3 normal = glm::normalize(glm::vec3(0.3f * std::sin(u), 0.3f * std::cos(w), 1.0f));
+    samples.normals[texel] = normal;
+    samples.tangents[texel] = TangentFromNormal(normal);
+    const TexelFrame frame(normal, samples.tangents[texel]);
+    const LafortuneBrdf brdf = SyntheticBrdf(x, y);
+    std::mt19937 random(texel);
+    std::normal_distribution<float> noise(1.0f, 0.02f);
+    const bool gap = x % 8 == 4 && y % 8 == 4;  // a hole between loops
+    for (size_t v = 0; v < samples.view_count(); ++v) {
+      const glm::vec3 view = samples.view_directions[v];
+      // Seen through the gap only head-on; elsewhere every view sees yarn.
+      const float alpha = gap ? (view.z > 0.8f ? 0.5f : 0.0f) : 1.0f;
+      samples.alpha[samples.AlphaIndex(texel, v)] = alpha;
+      if (alpha == 0.0f) continue;
+      const float grazing = 1.0f - view.z;
+      const glm::vec3 lut(1.0f - 0.2f * grazing, 1.0f - 0.4f * grazing, 1.0f - 0.5f * grazing);
+      for (size_t l = 0; l < samples.light_count(); ++l) {
+        const glm::vec3 r = lut * brdf.Evaluate(frame.ToLocal(samples.light_directions[l]), frame.ToLocal(view));
+        const glm::vec3 noisy = r * glm::vec3(noise(random), noise(random), noise(random));
+        samples.radiance[samples.RadianceIndex(texel, v, l)] = noisy;
+        noise_squared += glm::dot(noisy - r, noisy - r);
+        radiance_sum += noisy.x + noisy.y + noisy.z;
+        values += 3;
+      }
+    }
+  }
+  if (noise_floor != nullptr) *noise_floor = std::sqrt(noise_squared / values) / (radiance_sum / values);
+  return samples;
+}
+
+// What storing the asset in half floats costs: the RMSE between level 0 of `a` and
+// `b` rendered (T · f_1) for every texel, view and light, relative to a's mean.
+double RenderDifference(const FittedFabric& a, const FittedFabric& b, const RadianceSamples& samples) {
+  const FittedLevel& x = a.levels[0];
+  const FittedLevel& y = b.levels[0];
+  const size_t views = samples.view_count();
+  double squared = 0.0, sum = 0.0;
+  for (size_t texel = 0; texel < x.brdfs.size(); ++texel) {
+    const TexelFrame frame_x(x.normals[texel], x.tangents[texel]);
+    const TexelFrame frame_y(y.normals[texel], y.tangents[texel]);
+    for (size_t v = 0; v < views; ++v) {
+      const glm::vec3 view = samples.view_directions[v];
+      for (const glm::vec3& l : samples.light_directions) {
+        const glm::dvec3 rx =
+            x.lut[texel * views + v] * x.brdfs[texel].Evaluate(frame_x.ToLocal(l), frame_x.ToLocal(view));
+        const glm::dvec3 ry =
+            y.lut[texel * views + v] * y.brdfs[texel].Evaluate(frame_y.ToLocal(l), frame_y.ToLocal(view));
+        squared += glm::dot(rx - ry, rx - ry);
+        sum += rx.x + rx.y + rx.z;
+      }
+    }
+  }
+  const double values = 3.0 * x.brdfs.size() * views * samples.light_count();
+  return std::sqrt(squared / values) / (sum / values);
+}
+
+// Args: resolution, lobes, lookup table (0/1). All mip levels, every core.
+void BM_FitFabric(benchmark::State& state) {
+  double noise_floor = 0.0;
+  const RadianceSamples samples = SyntheticSamples(static_cast<uint32_t>(state.range(0)), &noise_floor);
+  v1::PrecomputeSettings settings;
+  settings.set_lobes(static_cast<uint32_t>(state.range(1)));
+  settings.set_lookup_table(state.range(2) != 0);
+  FittedFabric fabric;
+  for (auto _ : state) fabric = FitFabric(samples, settings);
+
+  size_t texels = 0;
+  double iterations = 0.0, alternations = 0.0;
+  for (const FittedLevel& level : fabric.levels) {
+    const size_t n = size_t{level.resolution} * level.resolution;
+    texels += n;
+    iterations += level.stats.lm_iterations_per_texel * n;
+    alternations += level.stats.mean_alternations * n;
+    const std::string k = std::to_string(level.stats.level);
+    state.counters["rel_rmse_L" + k] = level.stats.relative_rmse;
+    state.counters["lm_iter_L" + k] = level.stats.lm_iterations_per_texel;
+    state.counters["alternations_L" + k] = level.stats.mean_alternations;
+    state.counters["seconds_L" + k] = level.stats.fit_seconds;
+    state.counters["fallbacks_L" + k] = level.stats.fewer_lobes + level.stats.diffuse_only;
+  }
+  state.counters["noise_floor"] = noise_floor;
+  // The asset as the server caches it (half floats, the default).
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("loom_fit_benchmark_asset_" + std::to_string(::getpid()));
+  WriteFabricAsset(fabric, settings, "benchmark", directory);
+  uintmax_t bytes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(directory)) bytes += entry.file_size();
+  state.counters["asset_bytes"] = double(bytes);
+  state.counters["half_rel_err_L0"] = RenderDifference(fabric, ReadFabricAsset(directory), samples);
+  std::filesystem::remove_all(directory);
+  state.counters["texels"] = double(texels);
+  state.counters["texels_per_s"] = benchmark::Counter(double(texels), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["lm_iter_per_texel"] = iterations / texels;
+  state.counters["alternations"] = alternations / texels;
+  state.counters["seconds"] = fabric.seconds;
+}
+BENCHMARK(BM_FitFabric)
+    ->ArgNames({"res", "lobes", "lut"})
+    ->Args({32, 2, 1})  // the standard fabric
+    ->Args({32, 1, 0})
+    ->Args({32, 1, 1})
+    ->Args({32, 2, 0})
+    ->Args({32, 3, 0})
+    ->Args({32, 3, 1})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
+
+// --- Analytic vs automatic derivatives for one lobe solve -------------------------------
+
+// One level-0 texel of the synthetic tile (64 views × 64 lights), red channel, T = 1.
+struct SolveInput {
+  TexelGeometry geometry;
+  std::vector<double> radiance;
+  std::vector<double> lut;
+};
+
+SolveInput MakeSolveInput() {
+  const RadianceSamples samples = SyntheticSamples(8);
+  const size_t texel = 3 * 8 + 1;
+  const TexelFrame frame(samples.normals[texel], samples.tangents[texel]);
+  TexelSamples texel_samples(kDirections);
+  for (size_t v = 0; v < samples.view_count(); ++v) {
+    for (size_t l = 0; l < samples.light_count(); ++l) {
+      texel_samples.Add(frame.ToLocal(samples.light_directions[l]), frame.ToLocal(samples.view_directions[v]),
+                        static_cast<uint32_t>(v), samples.radiance[samples.RadianceIndex(texel, v, l)]);
+    }
+  }
+  return {texel_samples.geometry(), texel_samples.Channel(0), std::vector<double>(kDirections, 1.0)};
+}
+
+constexpr uint32_t kLobes = 2;
+constexpr int kParameters = 1 + 4 * kLobes;
+
+// Every residual of the texel in one automatically differentiated block.
+struct AllResiduals {
+  const SolveInput* input;
+  template <typename T>
+  bool operator()(const T* x, T* residuals) const {
+    for (size_t s = 0; s < input->geometry.size(); ++s) {
+      residuals[s] = input->geometry.cosines[s] * LafortuneChannel(x, kLobes, input->geometry.arguments[s]) -
+                     input->radiance[s];
+    }
+    return true;
+  }
+};
+
+// One residual per block, the textbook Ceres layout.
+struct OneResidual {
+  const SolveInput* input;
+  size_t s;
+  template <typename T>
+  bool operator()(const T* x, T* residual) const {
+    residual[0] = input->geometry.cosines[s] * LafortuneChannel(x, kLobes, input->geometry.arguments[s]) -
+                  input->radiance[s];
+    return true;
+  }
+};
+
+enum Derivatives { kAnalytic, kAutoOneBlock, kAutoPerSample };
+
+void BM_LobeSolve(benchmark::State& state) {
+  const SolveInput input = MakeSolveInput();
+  const auto derivatives = static_cast<Derivatives>(state.range(0));
+  const ceres::Solver::Options options = LobeSolverOptions(50);
+  const std::vector<double> start = StartParameters(input.geometry, input.radiance, kLobes);
+  ceres::Solver::Summary summary;
+  for (auto _ : state) {
+    std::vector<double> x = start;
+    ceres::Problem problem;
+    AddLobeParameterBounds(problem, x.data(), kLobes);
+    switch (derivatives) {
+      case kAnalytic:
+        problem.AddResidualBlock(new LobeCost(input.geometry, input.radiance, input.lut, kLobes), nullptr, x.data());
+        break;
+      case kAutoOneBlock:
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AllResiduals, ceres::DYNAMIC, kParameters>(
+                                     new AllResiduals{&input}, static_cast<int>(input.geometry.size())),
+                                 nullptr, x.data());
+        break;
+      case kAutoPerSample:
+        for (size_t s = 0; s < input.geometry.size(); ++s) {
+          problem.AddResidualBlock(
+              new ceres::AutoDiffCostFunction<OneResidual, 1, kParameters>(new OneResidual{&input, s}), nullptr,
+              x.data());
+        }
+        break;
+    }
+    ceres::Solve(options, &problem, &summary);
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["lm_iterations"] = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  state.counters["final_cost"] = summary.final_cost;
+  state.counters["samples"] = double(input.geometry.size());
+}
+BENCHMARK(BM_LobeSolve)
+    ->ArgName("derivatives")
+    ->Arg(kAnalytic)
+    ->Arg(kAutoOneBlock)
+    ->Arg(kAutoPerSample)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace loom
+
+BENCHMARK_MAIN();

@@ -1,0 +1,21 @@
+#include "core/fabric/yarn_material.h"
+
+#include <algorithm>
+
+namespace loom {
+
+float SpecularExponentFromRoughness(float roughness) {
+  return std::max(1.0f, 2.0f / (roughness * roughness) - 2.0f);
+}
+
+YarnMaterial MakeYarnMaterial(const v1::YarnSpec& yarn) {
+  YarnMaterial material;
+  const v1::Rgb& diffuse = yarn.diffuse_albedo();
+  const v1::Rgb& specular = yarn.specular_albedo();
+  material.diffuse_albedo = glm::vec3(diffuse.r(), diffuse.g(), diffuse.b());
+  material.specular_albedo = glm::vec3(specular.r(), specular.g(), specular.b());
+  material.specular_exponent = SpecularExponentFromRoughness(yarn.roughness());
+  return material;
+}
+
+}  // namespace loom

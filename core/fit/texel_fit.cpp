@@ -1,0 +1,314 @@
+#include "core/fit/texel_fit.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/spec/defaults.h"
+
+namespace loom {
+namespace {
+
+constexpr uint32_t kStartExponent = 10;
+// The start lobes' peak as a fraction of ρ: "a moderate specular highlight".
+constexpr double kStartPeakFraction = 0.5;
+constexpr double kStartAnisotropy = 1.22;
+// T beyond this means the model is numerically zero for the view; eq. 4 would only
+// amplify noise.
+constexpr double kMaxLut = 1e4;
+
+size_t ParameterCount(uint32_t lobes) { return 1 + 4 * size_t{lobes}; }
+
+bool AllFinite(const std::vector<double>& values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+// The value of channel parameters x (lobes lobes) for sample s, T excluded.
+double Model(const TexelGeometry& geometry, size_t s, const double* x, uint32_t lobes) {
+  return geometry.cosines[s] * LafortuneChannel(x, lobes, geometry.arguments[s]);
+}
+
+double SquaredError(const TexelGeometry& geometry, const std::vector<double>& radiance, const double* x,
+                    uint32_t lobes, const std::vector<double>& lut) {
+  double sum = 0.0;
+  for (size_t s = 0; s < geometry.size(); ++s) {
+    const double e = lut[geometry.views[s]] * Model(geometry, s, x, lobes) - radiance[s];
+    sum += e * e;
+  }
+  return sum;
+}
+
+// Eq. 4 for every view with samples: T = ⟨f, r⟩ / ⟨f, f⟩, clamped to [0, kMaxLut];
+// a view whose model is (numerically) zero keeps its T. Then the scale is fixed:
+// T · f_1 is unchanged by T → T/s, ρ → s·ρ, C_i → s^{1/N_i}·C_i, and s = mean T
+// makes the table's mean 1, so f_1 alone approximates the view-averaged BRDF (what a
+// renderer without the table, or a coarse level, can use) and T stays near 1,
+// where half floats are most precise. Returns the mean |ΔT| over the views with
+// samples.
+double UpdateLut(const TexelGeometry& geometry, const std::vector<double>& radiance, std::vector<double>& x,
+                 uint32_t lobes, std::vector<double>& lut) {
+  std::vector<double> fr(lut.size(), 0.0), ff(lut.size(), 0.0);
+  std::vector<bool> seen(lut.size(), false);
+  for (size_t s = 0; s < geometry.size(); ++s) {
+    const double f = Model(geometry, s, x.data(), lobes);
+    fr[geometry.views[s]] += f * radiance[s];
+    ff[geometry.views[s]] += f * f;
+    seen[geometry.views[s]] = true;
+  }
+  std::vector<double> updated = lut;
+  double mean = 0.0;
+  size_t views = 0;
+  for (size_t v = 0; v < lut.size(); ++v) {
+    if (!seen[v]) continue;
+    if (ff[v] > 1e-30) updated[v] = std::clamp(fr[v] / ff[v], 0.0, kMaxLut);
+    mean += updated[v];
+    ++views;
+  }
+  if (views == 0) return 0.0;
+  mean /= views;
+  if (mean > 0.0) {
+    // The bounds hold the solver's start feasible; a gauge step that would leave
+    // them is cut short there, which a following solve corrects.
+    x[0] = std::min(x[0] * mean, kMaxDiffuse);
+    for (uint32_t i = 0; i < lobes; ++i) {
+      const double scale = std::pow(mean, 1.0 / x[4 + 4 * i]);
+      for (int k = 1; k <= 3; ++k) {
+        x[k + 4 * i] = std::clamp(x[k + 4 * i] * scale, -kMaxLobeCoefficient, kMaxLobeCoefficient);
+      }
+    }
+    for (size_t v = 0; v < lut.size(); ++v) {
+      if (seen[v]) updated[v] /= mean;
+    }
+  }
+  double change = 0.0;
+  for (size_t v = 0; v < lut.size(); ++v) change += std::abs(updated[v] - lut[v]);
+  lut = std::move(updated);
+  return change / views;
+}
+
+// The layout of `lobes` lobes with the ones from `from` on switched off.
+void SwitchOffLobes(std::vector<double>& x, uint32_t from, uint32_t lobes) {
+  x.resize(ParameterCount(lobes), 0.0);
+  for (uint32_t i = from; i < lobes; ++i) {
+    std::fill_n(x.begin() + 1 + 4 * i, 3, 0.0);
+    x[4 + 4 * i] = 1.0;
+  }
+}
+
+// Diffuse only, in closed form. With the table, r = T(v)·ρ·l_z has the per-view
+// least-squares solution s_v = ⟨l_z, r⟩/⟨l_z, l_z⟩ = T(v)·ρ; ρ = mean s_v makes
+// the mean T 1. Without it, one least-squares ρ over every sample.
+ChannelFit FitDiffuse(const TexelGeometry& geometry, const std::vector<double>& radiance,
+                      const TexelFitOptions& options) {
+  const size_t views = options.lookup_table ? geometry.view_count : 1;
+  auto view_of = [&](size_t s) { return options.lookup_table ? geometry.views[s] : 0u; };
+  std::vector<double> cr(views, 0.0), cc(views, 0.0);
+  for (size_t s = 0; s < geometry.size(); ++s) {
+    cr[view_of(s)] += geometry.cosines[s] * radiance[s];
+    cc[view_of(s)] += geometry.cosines[s] * geometry.cosines[s];
+  }
+  std::vector<double> scale(views, 0.0);
+  double rho = 0.0;
+  size_t counted = 0;
+  for (size_t v = 0; v < views; ++v) {
+    if (!(cc[v] > 0.0)) continue;
+    scale[v] = std::max(0.0, cr[v] / cc[v]);
+    rho += scale[v];
+    ++counted;
+  }
+  rho = counted > 0 ? std::min(rho / counted, kMaxDiffuse) : 0.0;
+
+  ChannelFit fit;
+  fit.status = TexelFitStatus::kDiffuseOnly;
+  fit.parameters = {rho};
+  SwitchOffLobes(fit.parameters, 0, options.lobes);
+  fit.lut.assign(geometry.view_count, 1.0);
+  if (options.lookup_table && rho > 0.0) {
+    for (size_t v = 0; v < views; ++v) {
+      if (cc[v] > 0.0) fit.lut[v] = std::min(scale[v] / rho, kMaxLut);
+    }
+  }
+  // The guard of last resort: not reachable from finite samples.
+  if (!AllFinite(fit.parameters) || !AllFinite(fit.lut)) {
+    fit.parameters.assign(fit.parameters.size(), 0.0);
+    SwitchOffLobes(fit.parameters, 0, options.lobes);
+    fit.lut.assign(geometry.view_count, 1.0);
+  }
+  fit.squared_error = SquaredError(geometry, radiance, fit.parameters.data(), options.lobes, fit.lut);
+  return fit;
+}
+
+// One Levenberg–Marquardt solve of the lobes with T fixed, warm-started from x.
+// Returns whether the solution is usable; adds the iterations taken.
+bool SolveLobes(LobeCost& cost, std::vector<double>& x, uint32_t lobes, const ceres::Solver::Options& options,
+                uint32_t& iterations) {
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  AddLobeParameterBounds(problem, x.data(), lobes);
+  problem.AddResidualBlock(&cost, nullptr, x.data());
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  iterations += static_cast<uint32_t>(summary.num_successful_steps + summary.num_unsuccessful_steps);
+  return summary.IsSolutionUsable() && AllFinite(x);
+}
+
+// The alternation of §5 with `lobes` lobes, from `start` or the paper's start.
+// Returns false if a solve failed.
+bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<double>& radiance, uint32_t lobes,
+                          const TexelFitOptions& options, const ChannelStart* start, ChannelFit& fit) {
+  if (start != nullptr) {
+    fit.parameters = start->parameters;
+    fit.lut = start->lut;
+  } else {
+    fit.parameters = StartParameters(geometry, radiance, lobes);
+    fit.lut.assign(geometry.view_count, 1.0);
+  }
+  fit.alternations = 0;
+  fit.lut_changes.clear();
+  LobeCost cost(geometry, radiance, fit.lut, lobes);
+  const ceres::Solver::Options solver = LobeSolverOptions(options.max_lm_iterations);
+  while (fit.alternations < options.max_alternations) {
+    ++fit.alternations;
+    if (!SolveLobes(cost, fit.parameters, lobes, solver, fit.lm_iterations)) return false;
+    if (!options.lookup_table) break;
+    const double change = UpdateLut(geometry, radiance, fit.parameters, lobes, fit.lut);
+    fit.lut_changes.push_back(change);
+    if (change < options.lut_change_threshold) break;
+  }
+  fit.squared_error = SquaredError(geometry, radiance, fit.parameters.data(), lobes, fit.lut);
+  return std::isfinite(fit.squared_error) && AllFinite(fit.lut);
+}
+
+// The channel's fit with every fallback (see the header).
+ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& radiance,
+                      const TexelFitOptions& options, const ChannelStart* start) {
+  if (geometry.size() == 0 || std::all_of(radiance.begin(), radiance.end(), [](double r) { return r == 0.0; })) {
+    ChannelFit fit = FitDiffuse(geometry, radiance, options);  // ρ = 0, lobes off, T = 1
+    fit.status = geometry.size() == 0 ? TexelFitStatus::kEmpty : TexelFitStatus::kBlack;
+    return fit;
+  }
+  const ChannelFit diffuse = FitDiffuse(geometry, radiance, options);
+  uint32_t iterations = 0;
+  for (uint32_t lobes = options.lobes; lobes >= 1; --lobes) {
+    ChannelFit fit;
+    fit.lm_iterations = iterations;
+    const bool solved =
+        AlternateLobesAndLut(geometry, radiance, lobes, options, lobes == options.lobes ? start : nullptr, fit);
+    iterations = fit.lm_iterations;
+    // Relative slack: a lobe fit that converged onto the diffuse solution differs
+    // from it only by rounding.
+    if (solved && fit.squared_error <= diffuse.squared_error * (1.0 + 1e-9) + 1e-300) {
+      SwitchOffLobes(fit.parameters, lobes, options.lobes);
+      fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
+      return fit;
+    }
+  }
+  ChannelFit fit = diffuse;
+  fit.lm_iterations = iterations;
+  return fit;
+}
+
+}  // namespace
+
+std::vector<double> StartParameters(const TexelGeometry& geometry, const std::vector<double>& radiance,
+                                    uint32_t lobes) {
+  double sum_radiance = 0.0, sum_cosine = 0.0;
+  for (size_t s = 0; s < geometry.size(); ++s) {
+    sum_radiance += radiance[s];
+    sum_cosine += geometry.cosines[s];
+  }
+  const double rho = sum_cosine > 0.0 ? std::clamp(sum_radiance / sum_cosine, 0.0, kMaxDiffuse) : 0.0;
+  // At the mirror direction the specular lobes' argument is ≈ c, so the peak is c^N.
+  const double c = std::pow(kStartPeakFraction * rho, 1.0 / kStartExponent);
+  const double start[kMaxLafortuneLobes][3] = {
+      {-kStartAnisotropy * c, -c, c},  // lobe 1: C_x = 1.22·C_y
+      {-c, -kStartAnisotropy * c, c},  // lobe 2: C_y = 1.22·C_x
+      {c, c, c},                       // lobe 3: retro-reflection, peak at l = v
+  };
+  std::vector<double> x(ParameterCount(lobes));
+  x[0] = rho;
+  for (uint32_t i = 0; i < lobes; ++i) {
+    std::copy(start[i], start[i] + 3, x.begin() + 1 + 4 * i);
+    x[4 + 4 * i] = kStartExponent;
+  }
+  return x;
+}
+
+const char* TexelFitStatusName(TexelFitStatus status) {
+  switch (status) {
+    case TexelFitStatus::kBlack: return "black";
+    case TexelFitStatus::kOk: return "ok";
+    case TexelFitStatus::kFewerLobes: return "fallback_fewer_lobes";
+    case TexelFitStatus::kDiffuseOnly: return "fallback_diffuse";
+    case TexelFitStatus::kEmpty: return "empty_texel";
+  }
+  return "unknown";
+}
+
+TexelFitOptions MakeTexelFitOptions(const v1::PrecomputeSettings& settings) {
+  const v1::PrecomputeSettings s = WithDefaults(settings);
+  return {s.lobes(), s.lookup_table(), s.lut_change_threshold(), s.max_alternations(), s.max_lm_iterations()};
+}
+
+TexelSamples::TexelSamples(uint32_t view_count) { geometry_.view_count = view_count; }
+
+void TexelSamples::Reserve(size_t count) {
+  geometry_.arguments.reserve(count);
+  geometry_.cosines.reserve(count);
+  geometry_.views.reserve(count);
+  radiance_.reserve(count);
+}
+
+void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
+  geometry_.arguments.push_back(MakeLobeArgument(light, view));
+  geometry_.cosines.push_back(std::max(0.0, double{light.z}));
+  geometry_.views.push_back(view_index);
+  radiance_.push_back(radiance);
+}
+
+std::vector<double> TexelSamples::Channel(int c) const {
+  std::vector<double> values(radiance_.size());
+  for (size_t s = 0; s < radiance_.size(); ++s) values[s] = radiance_[s][c];
+  return values;
+}
+
+ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
+                           const ChannelStart* start) {
+  const std::vector<double> radiance = samples.Channel(channel);
+  ChannelFit fit = FitChannel(samples.geometry(), radiance, options, start);
+  fit.samples = radiance.size();
+  for (double r : radiance) fit.radiance_sum += r;
+  return fit;
+}
+TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t lobes) {
+  TexelFit fit;
+  fit.status = TexelFitStatus::kBlack;  // the least; each channel can only raise it
+  fit.brdf.lobe_count = lobes;
+  fit.samples = channels[0].samples;
+  fit.lut.assign(channels[0].lut.size(), glm::vec3(1.0f));
+  double squared_error = 0.0, radiance_sum = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    const ChannelFit& channel = channels[c];
+    fit.brdf.UnpackChannel(c, channel.parameters.data());
+    for (size_t v = 0; v < fit.lut.size(); ++v) fit.lut[v][c] = static_cast<float>(channel.lut[v]);
+    squared_error += channel.squared_error;
+    radiance_sum += channel.radiance_sum;
+    fit.lm_iterations += channel.lm_iterations;
+    fit.alternations = std::max(fit.alternations, channel.alternations);
+    fit.status = std::max(fit.status, channel.status);
+    fit.lut_changes[c] = channel.lut_changes;
+  }
+  if (fit.samples > 0) {
+    fit.rmse = std::sqrt(squared_error / (3.0 * fit.samples));
+    fit.mean_radiance = radiance_sum / (3.0 * fit.samples);
+  }
+  return fit;
+}
+
+TexelFit FitTexel(const TexelSamples& samples, const TexelFitOptions& options) {
+  std::array<ChannelFit, 3> channels;
+  for (int c = 0; c < 3; ++c) channels[c] = FitTexelChannel(samples, c, options);
+  return CombineChannelFits(channels, options.lobes);
+}
+
+}  // namespace loom

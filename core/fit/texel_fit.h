@@ -1,0 +1,130 @@
+#pragma once
+// Fitting one texel's BRDF and lookup table to its radiance samples (Daubert 2001
+// §5): Levenberg–Marquardt for the lobes with T fixed, then T(v) per view in closed
+// form (eq. 4), alternated until the mean |ΔT| falls below a threshold.
+//
+// What is fitted: the radiance samples r as acquisition stores them (unit
+// irradiance, so r = f_r · cos θ_l), by T(v) · f_1(l, v) with f_1 the Lafortune model
+// of core/fit/lafortune_brdf.h, which carries the cosine as l_z. The error is the
+// plain sum of squared residuals over the valid samples (alpha > 0; the caller adds
+// only those), every channel alike.
+//
+// Separability. Channel c of T · f_1 depends only on channel c of T and of every
+// parameter, so a texel is three independent scalar problems of 1 + 4·lobes
+// parameters plus one T per view, each with its own alternation: FitTexelChannel
+// is the unit of work (the fabric fit schedules channels as separate items), and
+// FitTexel runs the three and combines them.
+//
+// Start (§5): per channel ρ = Σ r / Σ l_z (the mean ratio of radiance to cosine),
+// moderate specular lobes with N = 10 whose peak is half of ρ, slightly anisotropic
+// (lobe 1 C_x = 1.22·C_y, lobe 2 C_y = 1.22·C_x; C_x, C_y < 0 < C_z reflect about
+// the normal), a third lobe retro-reflective (C_x = C_y = C_z > 0), and T = 1.
+//
+// Fallbacks. A lobe fit is kept if Ceres returns a usable solution with finite
+// values and its error is no worse than the closed-form diffuse fit (with its own
+// T): anything else failed or diverged, and the channel is refitted with one lobe
+// fewer, down to diffuse only. Dropped lobes stay in the layout with C = 0 (off).
+// A final guard replaces any non-finite value by the diffuse fit, so no NaN or Inf
+// ever leaves this file.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/fit/lafortune_brdf.h"
+#include "core/fit/lobe_cost.h"
+#include "loom/v1/precompute.pb.h"
+
+namespace loom {
+
+// Ordered by how much of the requested model a texel lost; a texel's status is
+// its worst channel's (a black channel next to fitted ones is ok).
+enum class TexelFitStatus : uint8_t {
+  kBlack,        // every valid sample is zero: ρ = 0, lobes off, exactly
+  kOk,           // fitted with every requested lobe
+  kFewerLobes,   // a channel failed with all lobes and kept fewer
+  kDiffuseOnly,  // a channel failed with any lobe and kept the closed-form diffuse fit
+  kEmpty,        // no valid sample (a hole from every view): zero here, the fabric
+                 // fit fills it from a parent or neighbour
+};
+const char* TexelFitStatusName(TexelFitStatus status);
+
+struct TexelFitOptions {
+  uint32_t lobes = 2;
+  bool lookup_table = true;
+  double lut_change_threshold = 0.1;
+  uint32_t max_alternations = 8;
+  uint32_t max_lm_iterations = 50;
+};
+// From settings with the defaults of core/spec/defaults.h applied.
+TexelFitOptions MakeTexelFitOptions(const v1::PrecomputeSettings& settings);
+
+// One texel's valid samples, directions already in its local frame.
+class TexelSamples {
+ public:
+  explicit TexelSamples(uint32_t view_count);
+
+  void Reserve(size_t count);
+  // Unit light and view directions in the local frame, the view's index in the
+  // stored view directions, the RGB radiance. Only samples with alpha > 0.
+  void Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance);
+
+  const TexelGeometry& geometry() const { return geometry_; }
+  uint32_t view_count() const { return geometry_.view_count; }
+  size_t size() const { return geometry_.size(); }
+  // Channel c of every sample's radiance.
+  std::vector<double> Channel(int c) const;
+
+ private:
+  TexelGeometry geometry_;
+  std::vector<glm::vec3> radiance_;
+};
+
+struct ChannelFit {
+  std::vector<double> parameters;  // LafortuneChannel packing, options.lobes lobes
+  std::vector<double> lut;         // T per view; 1 where a view has no sample
+  double squared_error = 0.0;      // Σ residual² over the samples
+  uint32_t lm_iterations = 0;      // over every alternation and fallback
+  uint32_t alternations = 0;       // lobe fits of the kept attempt
+  std::vector<double> lut_changes;  // mean |ΔT| after each lobe fit of the kept attempt
+  TexelFitStatus status = TexelFitStatus::kOk;
+  size_t samples = 0;               // the channel's valid samples
+  double radiance_sum = 0.0;        // Σ r over them
+};
+
+// A start other than the paper's for the fit with every requested lobe:
+// parameters (LafortuneChannel packing, options.lobes lobes, inside the bounds of
+// lobe_cost.h) and T per view. A mip texel starts from its children's mean fit,
+// which is much closer than the generic start (fallbacks to fewer lobes still use
+// the paper's).
+struct ChannelStart {
+  std::vector<double> parameters;
+  std::vector<double> lut;
+};
+
+ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
+                           const ChannelStart* start = nullptr);
+
+// The start above for one channel's radiance (one value per sample), packed as
+// LafortuneChannel's x.
+std::vector<double> StartParameters(const TexelGeometry& geometry, const std::vector<double>& radiance,
+                                    uint32_t lobes);
+
+struct TexelFit {
+  LafortuneBrdf brdf;
+  std::vector<glm::vec3> lut;  // T per view
+  size_t samples = 0;          // valid samples (each RGB)
+  double rmse = 0.0;           // over every valid sample and channel
+  double mean_radiance = 0.0;  // likewise; rmse / mean_radiance is the relative error
+  uint32_t lm_iterations = 0;  // sum over the channels
+  uint32_t alternations = 0;   // the most of any channel
+  TexelFitStatus status = TexelFitStatus::kOk;
+  std::array<std::vector<double>, 3> lut_changes;
+};
+
+// The three channel fits of one texel as one result.
+TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t lobes);
+
+TexelFit FitTexel(const TexelSamples& samples, const TexelFitOptions& options);
+
+}  // namespace loom

@@ -1,0 +1,138 @@
+#include "core/fit/fabric_asset.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/acquire/hemisphere_directions.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom {
+namespace {
+
+// A small fitted fabric: 4×4 texels, 4×4 views and lights, a glossy BRDF that
+// varies across the tile, one texel empty.
+FittedFabric SmallFabric(v1::MipLevels mip_levels = v1::MIP_LEVELS_AUTO) {
+  RadianceSamples samples(4, HemisphereGridDirections(16), HemisphereGridDirections(16));
+  for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
+    LafortuneBrdf brdf;
+    brdf.lobe_count = 1;
+    brdf.rho = glm::vec3(0.1f + 0.02f * texel, 0.2f, 0.3f);
+    brdf.lobes[0] = {glm::vec3(-1.0f), glm::vec3(-0.9f), glm::vec3(0.9f), glm::vec3(8.0f)};
+    for (size_t v = 0; v < samples.view_count(); ++v) {
+      samples.alpha[samples.AlphaIndex(texel, v)] = texel == 6 ? 0.0f : 1.0f - 0.05f * float(v % 3);
+      if (texel == 6) continue;
+      for (size_t l = 0; l < samples.light_count(); ++l) {
+        samples.radiance[samples.RadianceIndex(texel, v, l)] =
+            brdf.Evaluate(samples.light_directions[l], samples.view_directions[v]);
+      }
+    }
+  }
+  v1::PrecomputeSettings settings;
+  settings.set_lobes(2);
+  settings.set_mip_levels(mip_levels);
+  return FitFabric(samples, settings);
+}
+
+class FabricAssetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = std::filesystem::temp_directory_path() /
+                 ("loom_fabric_asset_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                  "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(directory_);
+  }
+  void TearDown() override { std::filesystem::remove_all(directory_); }
+  std::filesystem::path directory_;
+};
+
+void ExpectSameLevels(const FittedFabric& a, const FittedFabric& b, float tolerance) {
+  auto near = [tolerance](float x, float y) { return std::abs(x - y) <= tolerance * std::max(1.0f, std::abs(y)); };
+  ASSERT_EQ(a.levels.size(), b.levels.size());
+  EXPECT_EQ(a.lobes, b.lobes);
+  EXPECT_EQ(a.view_directions, b.view_directions);
+  for (size_t k = 0; k < a.levels.size(); ++k) {
+    const FittedLevel& x = a.levels[k];
+    const FittedLevel& y = b.levels[k];
+    ASSERT_EQ(x.resolution, y.resolution);
+    EXPECT_EQ(x.status, y.status);
+    EXPECT_EQ(x.stats.samples, y.stats.samples);
+    EXPECT_EQ(x.stats.relative_rmse, y.stats.relative_rmse);
+    for (size_t t = 0; t < x.brdfs.size(); ++t) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_TRUE(near(x.brdfs[t].rho[c], y.brdfs[t].rho[c])) << "level " << k << " texel " << t;
+        for (uint32_t i = 0; i < a.lobes; ++i) {
+          EXPECT_TRUE(near(x.brdfs[t].lobes[i].cx[c], y.brdfs[t].lobes[i].cx[c]));
+          EXPECT_TRUE(near(x.brdfs[t].lobes[i].n[c], y.brdfs[t].lobes[i].n[c]));
+        }
+        EXPECT_TRUE(near(x.normals[t][c], y.normals[t][c]));
+        EXPECT_TRUE(near(x.tangents[t][c], y.tangents[t][c]));
+      }
+      EXPECT_TRUE(near(x.rmse[t], y.rmse[t]));
+    }
+    for (size_t i = 0; i < x.lut.size(); ++i) {
+      for (int c = 0; c < 3; ++c) EXPECT_TRUE(near(x.lut[i][c], y.lut[i][c])) << "level " << k << " entry " << i;
+      EXPECT_TRUE(near(x.alpha[i], y.alpha[i]));
+    }
+  }
+}
+
+TEST_F(FabricAssetTest, FullFloatRoundTripGivesBackTheSameNumbers) {
+  const FittedFabric fabric = SmallFabric();
+  v1::PrecomputeSettings settings;
+  settings.set_half_float(false);
+  WriteFabricAsset(fabric, settings, "fabric-key-1", directory_);
+  ExpectSameLevels(ReadFabricAsset(directory_), fabric, 0.0f);
+
+  const nlohmann::json manifest = nlohmann::json::parse(ReadFile(directory_ / "manifest.json"));
+  EXPECT_EQ(manifest.at("fabric_key"), "fabric-key-1");
+  EXPECT_EQ(manifest.at("asset_version"), kFabricAssetVersion);
+  EXPECT_EQ(manifest.at("fitted_levels"), 3);
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(directory_)) ++files;
+  EXPECT_EQ(files, 3u) << "no temporary file left behind";
+}
+
+TEST_F(FabricAssetTest, HalfFloatRoundTripIsWithinHalfPrecision) {
+  const FittedFabric fabric = SmallFabric();
+  WriteFabricAsset(fabric, {}, "fabric-key-2", directory_);  // half floats by default
+  ExpectSameLevels(ReadFabricAsset(directory_), fabric, 1e-3f);
+}
+
+TEST_F(FabricAssetTest, SingleLevelRoundTrip) {
+  const FittedFabric fabric = SmallFabric(v1::MIP_LEVELS_NONE);
+  ASSERT_EQ(fabric.levels.size(), 1u);
+  v1::PrecomputeSettings settings;
+  settings.set_half_float(false);
+  WriteFabricAsset(fabric, settings, "fabric-key-4", directory_);
+  ExpectSameLevels(ReadFabricAsset(directory_), fabric, 0.0f);
+}
+
+TEST_F(FabricAssetTest, CorruptedImageIsDetected) {
+  WriteFabricAsset(SmallFabric(), {}, "fabric-key-3", directory_);
+  std::string bytes = ReadFile(directory_ / "lut.exr");
+  bytes[bytes.size() / 2] ^= 0x5a;
+  WriteFileAtomic(directory_ / "lut.exr", bytes);
+  try {
+    ReadFabricAsset(directory_);
+    FAIL() << "a corrupted asset was read";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("lut.exr is corrupted"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(FabricAssetTest, MissingAssetIsNotFound) {
+  try {
+    ReadFabricAsset(directory_);
+    FAIL() << "read an asset that does not exist";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kNotFound);
+  }
+}
+
+}  // namespace
+}  // namespace loom
