@@ -1,10 +1,14 @@
-// loom-lab geometry | acquire: a fabric's micro-geometry and its radiance samples.
+// loom-lab geometry | acquire | precompute: a fabric's micro-geometry, its radiance
+// samples, and its fitted BRDF array (the cached asset).
 
 #include <chrono>
 #include <cstdio>
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
+#include "core/fit/fabric_asset.h"
+#include "core/precompute/fabric_precompute.h"
+#include "core/spec/fabric_key.h"
 #include "core/scene/obj_writer.h"
 #include "core/spec/spec_json.h"
 #include "lab/lab_command.h"
@@ -24,6 +28,46 @@ nlohmann::json TileJson(const FabricTile& tile) {
           {"materials", tile.materials.size()},
           {"z_min", tile.z_min},
           {"z_max", tile.z_max}};
+}
+
+v1::PrecomputeSettings LoadSettings(const std::string& path) {
+  return path.empty() ? v1::PrecomputeSettings() : LoadSpecFile<v1::PrecomputeSettings>(path, "precompute");
+}
+
+nlohmann::json FitJson(const FittedFabric& fitted) {
+  nlohmann::json levels = nlohmann::json::array();
+  size_t texels = 0;
+  for (const FittedLevel& level : fitted.levels) {
+    const FitLevelStats& s = level.stats;
+    texels += level.brdfs.size();
+    levels.push_back({{"level", s.level},
+                      {"resolution", s.resolution},
+                      {"rmse_mean", s.rmse_mean},
+                      {"rmse_p95", s.rmse_p95},
+                      {"rmse_max", s.rmse_max},
+                      {"relative_rmse", s.relative_rmse},
+                      {"lm_iterations_per_texel", s.lm_iterations_per_texel},
+                      {"mean_alternations", s.mean_alternations},
+                      {"fallback_fewer_lobes", s.fewer_lobes},
+                      {"fallback_diffuse", s.diffuse_only},
+                      {"empty", s.empty},
+                      {"black", s.black},
+                      {"seconds", s.fit_seconds}});
+  }
+  return {{"seconds", fitted.seconds},
+          {"texels", texels},
+          {"texels_per_second", fitted.seconds > 0 ? static_cast<double>(texels) / fitted.seconds : 0.0},
+          {"lobes", fitted.lobes},
+          {"lookup_table", fitted.lookup_table},
+          {"levels", levels}};
+}
+
+uintmax_t DirectoryBytes(const std::filesystem::path& directory) {
+  uintmax_t bytes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(directory)) {
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  }
+  return bytes;
 }
 
 }  // namespace
@@ -73,9 +117,7 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--threads", options->threads, "Worker threads (0 = every core)");
   return {command, [&flags, options] {
             const auto fabric = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
-            const auto settings = options->settings.empty()
-                                      ? v1::PrecomputeSettings()
-                                      : LoadSpecFile<v1::PrecomputeSettings>(options->settings, "precompute");
+            const auto settings = LoadSettings(options->settings);
             const auto start = std::chrono::steady_clock::now();
             const FabricTile tile = BuildFabricTile(fabric);
             const double geometry_seconds = SecondsSince(start);
@@ -108,6 +150,60 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
                           "mean alpha %.3f\n",
                           options->out.c_str(), samples.resolution, samples.view_count(), samples.light_count(),
                           stats.seconds, stats.rays_per_second() * 1e-6, stats.threads, samples.MeanAlpha());
+            }
+            return 0;
+          }};
+}
+
+LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string fabric, settings, out;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "precompute", "Geometry → acquisition → fit → fabric asset (the cached fitted BRDF array) in a directory");
+  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
+  command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
+  command->add_option("--out,-o", options->out, "Output directory (parameters.exr, lut.exr, manifest.json)")
+      ->required();
+  return {command, [&flags, options] {
+            const auto fabric = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
+            const auto settings = LoadSettings(options->settings);
+            const auto start = std::chrono::steady_clock::now();
+            PrecomputeStats stats;
+            FittedFabric fitted;
+            {
+              ProgressBar bar("precompute");
+              fitted = PrecomputeFabric(fabric, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
+                                        &stats);
+            }
+            const std::string key = FabricKey(fabric, settings);
+            WriteFabricAsset(fitted, settings, key, options->out);
+            const double total_seconds = SecondsSince(start);
+            const uintmax_t asset_bytes = DirectoryBytes(options->out);
+            if (flags.json) {
+              PrintJson({{"key", key},
+                         {"out", options->out},
+                         {"asset_bytes", asset_bytes},
+                         {"seconds", total_seconds},
+                         {"geometry_seconds", stats.geometry_seconds},
+                         {"tile_triangles", stats.tile_triangles},
+                         {"acquisition",
+                          {{"seconds", stats.acquisition.seconds},
+                           {"rays", stats.acquisition.rays},
+                           {"rays_per_second", stats.acquisition.rays_per_second()},
+                           {"mean_alpha", stats.mean_alpha}}},
+                         {"fit", FitJson(fitted)}});
+            } else {
+              std::printf("wrote %s (%.1f KB): acquisition %.1f s, fit %.1f s (%zu levels), total %.1f s\nkey %s\n",
+                          options->out.c_str(), static_cast<double>(asset_bytes) / 1024.0, stats.acquisition.seconds,
+                          stats.fit_seconds, fitted.levels.size(), total_seconds, key.c_str());
+              for (const FittedLevel& level : fitted.levels) {
+                std::printf("  level %u (%u²): relative RMSE %.2f%%, %.1f LM iterations/texel, %u fallbacks, %u empty\n",
+                            level.stats.level, level.stats.resolution, 100.0 * level.stats.relative_rmse,
+                            level.stats.lm_iterations_per_texel, level.stats.fewer_lobes + level.stats.diffuse_only,
+                            level.stats.empty);
+              }
             }
             return 0;
           }};

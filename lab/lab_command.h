@@ -29,6 +29,7 @@ LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags);
 
 // Shared by the GL subcommands: --software, and the context it asks for.

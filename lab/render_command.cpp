@@ -6,9 +6,7 @@
 #include <cstdio>
 #include <map>
 
-#include "core/acquire/acquisition.h"
-#include "core/fabric/fabric_tile.h"
-#include "core/fit/fabric_fit.h"
+#include "core/precompute/fabric_precompute.h"
 #include "core/render/svbrdf_renderer.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
@@ -25,14 +23,8 @@ double SecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 FittedFabric Precompute(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings, const std::string& label) {
-  const FabricTile tile = BuildFabricTile(fabric);
-  RadianceSamples samples;
-  {
-    ProgressBar bar(label + " acquire");
-    samples = Acquire(tile, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
-  }
-  ProgressBar bar(label + " fit");
-  return FitFabric(samples, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
+  ProgressBar bar("precompute " + label);
+  return PrecomputeFabric(fabric, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
 }
 
 }  // namespace

@@ -240,7 +240,7 @@ void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& 
   json levels = json::array();
   for (const FittedLevel& level : fabric.levels) levels.push_back(StatsJson(level.stats));
   const json manifest = {
-      {"asset_version", kFabricAssetVersion},
+      {"asset_version", kAssetFormatVersion},
       {"fabric_key", fabric_key},
       {"settings", json::parse(SpecToJson(resolved, false))},
       {"lobes", fabric.lobes},
@@ -264,10 +264,10 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
   json manifest;
   try {
     manifest = json::parse(ReadFile(manifest_path));
-    if (manifest.at("asset_version").get<uint32_t>() != kFabricAssetVersion) {
+    if (manifest.at("asset_version").get<uint32_t>() != kAssetFormatVersion) {
       throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + " has asset version " +
                                                    manifest.at("asset_version").dump() + ", this engine reads " +
-                                                   std::to_string(kFabricAssetVersion));
+                                                   std::to_string(kAssetFormatVersion));
     }
     FittedFabric fabric;
     fabric.lobes = manifest.at("lobes");

@@ -26,12 +26,13 @@
 #include <string>
 
 #include "core/fit/fabric_fit.h"
+#include "core/spec/fabric_key.h"
 #include "loom/v1/precompute.pb.h"
 
 namespace loom {
 
-// Bumped whenever the layout above changes; part of a fabric's cache key.
-inline constexpr uint32_t kFabricAssetVersion = 1;
+// The layout above is version kAssetFormatVersion (core/spec/fabric_key.h), part
+// of every fabric's cache key: changing the layout bumps it.
 
 // Creates `directory` if needed. `settings` are recorded as given, with defaults
 // applied.

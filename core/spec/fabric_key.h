@@ -8,6 +8,7 @@
 // sorted and no whitespace. It does not depend on the field order of the input file
 // or on which of two equal spellings (omitted vs explicit default) was used.
 
+#include <cstdint>
 #include <string>
 
 #include "loom/v1/fabric.pb.h"
@@ -17,7 +18,7 @@ namespace loom {
 
 // Bumped whenever the asset layout or the meaning of a fitted parameter changes:
 // it invalidates every cached fabric.
-inline constexpr int kAssetFormatVersion = 1;
+inline constexpr uint32_t kAssetFormatVersion = 1;
 
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/fabric/fabric_tile.h"
+#include "core/spec/spec_json.h"
 #include "core/util/error.h"
 #include "tests/core/acquire/test_tiles.h"
 
@@ -133,6 +135,44 @@ float ExpectedShadowedFraction(float y0, float y1, glm::vec3 l, float height, fl
     }
   }
   return static_cast<float>(shadowed) / total;
+}
+
+// The issue's case on real geometry: a single-layer plain weave with gaps, seen
+// head-on, is a hole (alpha exactly 0, radiance 0) wherever the view passes
+// through a gap, and covered over the threads.
+TEST(Acquisition, SingleLayerWeaveSeenHeadOnShowsItsGapsAsAlphaZero) {
+  const FabricTile tile = BuildFabricTile(
+      ParseSpecJson<v1::FabricSpec>(R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": 0.3}})", "fabric"));
+  v1::PrecomputeSettings settings;
+  settings.set_spatial_resolution(32);
+  settings.set_view_directions(9);  // 3×3: direction 4 is the zenith
+  settings.set_light_directions(4);
+  const RadianceSamples samples = Acquire(tile, settings);
+  constexpr size_t kZenith = 4;
+  ASSERT_NEAR(samples.view_directions[kZenith].z, 1.0f, 1e-6f);
+  size_t holes = 0, covered = 0;
+  for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
+    const float alpha = samples.alpha[samples.AlphaIndex(texel, kZenith)];
+    if (alpha == 0.0f) {
+      ++holes;
+      for (size_t light = 0; light < samples.light_count(); ++light) {
+        EXPECT_EQ(samples.radiance[samples.RadianceIndex(texel, kZenith, light)], glm::vec3(0.0f));
+      }
+    }
+    if (alpha == 1.0f) ++covered;
+  }
+  // The tile holds 2×2 gaps of 0.3 of a 0.5 pitch, 4.8 texels wide: about 9% of the
+  // area is open; the texels wholly inside a gap (≈ 4 × 3.8²) must be holes.
+  EXPECT_GT(holes, 40u);
+  EXPECT_LT(holes, 110u);
+  EXPECT_GT(covered, 800u);
+  // Without gaps nothing is a hole.
+  const FabricTile closed = BuildFabricTile(
+      ParseSpecJson<v1::FabricSpec>(R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": 0}})", "fabric"));
+  const RadianceSamples closed_samples = Acquire(closed, settings);
+  for (size_t texel = 0; texel < closed_samples.texel_count(); ++texel) {
+    EXPECT_GT(closed_samples.alpha[closed_samples.AlphaIndex(texel, kZenith)], 0.0f) << texel;
+  }
 }
 
 TEST(Acquisition, ShadowedFractionRisesAsTheLightGoesGrazing) {

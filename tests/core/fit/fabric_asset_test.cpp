@@ -89,7 +89,7 @@ TEST_F(FabricAssetTest, FullFloatRoundTripGivesBackTheSameNumbers) {
 
   const nlohmann::json manifest = nlohmann::json::parse(ReadFile(directory_ / "manifest.json"));
   EXPECT_EQ(manifest.at("fabric_key"), "fabric-key-1");
-  EXPECT_EQ(manifest.at("asset_version"), kFabricAssetVersion);
+  EXPECT_EQ(manifest.at("asset_version"), kAssetFormatVersion);
   EXPECT_EQ(manifest.at("fitted_levels"), 3);
   size_t files = 0;
   for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(directory_)) ++files;
