@@ -56,7 +56,7 @@ RadianceSamples SyntheticSamples(uint32_t resolution, double* noise_floor = null
     const float u = glm::two_pi<float>() * float(x) / 8.0f, w = glm::two_pi<float>() * float(y) / 8.0f;
     const glm::vec3 normal = glm::normalize(glm::vec3(0.3f * std::sin(u), 0.3f * std::cos(w), 1.0f));
     samples.normals[texel] = normal;
-    samples.tangents[texel] = TangentFromNormal(normal);
+    samples.tangents[texel] = TexelTangent(normal);
     const TexelFrame frame(normal, samples.tangents[texel]);
     const LafortuneBrdf brdf = SyntheticBrdf(x, y);
     std::mt19937 random(texel);

@@ -10,7 +10,7 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/acquire/indirect_light.h"
-#include "core/acquire/parallel_for.h"
+#include "core/util/parallel_for.h"
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
@@ -116,14 +116,6 @@ float MaxTangent(const std::vector<glm::vec3>& directions) {
   return result;
 }
 
-// Daubert §4: the binormal n × x is perpendicular to the normal and the x axis;
-// the tangent b × n = x − n (n·x) lies in the plane of n and x. Where n is along x
-// the plane is undefined and y takes the x axis's place.
-glm::vec3 TexelTangent(glm::vec3 n) {
-  const glm::vec3 x(1, 0, 0);
-  const glm::vec3 y(0, 1, 0);
-  return SafeNormalize(x - n * glm::dot(n, x), SafeNormalize(y - n * glm::dot(n, y), x));
-}
 
 // Progress over the whole acquisition: each stage has a weight (its estimated
 // rays) and reports the fraction of it that is done.

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/acquire/hemisphere_directions.h"
-#include "core/acquire/parallel_for.h"
+#include "core/util/parallel_for.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
 

@@ -9,10 +9,17 @@
 
 #include "core/spec/limits.h"
 #include "core/util/error.h"
+#include "core/util/vector_math.h"
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
 
 namespace loom {
+
+glm::vec3 TexelTangent(glm::vec3 n) {
+  const glm::vec3 x(1, 0, 0);
+  const glm::vec3 y(0, 1, 0);
+  return SafeNormalize(x - n * glm::dot(n, x), SafeNormalize(y - n * glm::dot(n, y), x));
+}
 namespace {
 
 // The file stores the in-memory representation; a big-endian host would need swaps.

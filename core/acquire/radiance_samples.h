@@ -67,6 +67,12 @@ struct RadianceSamples {
   bool operator==(const RadianceSamples&) const = default;
 };
 
+// The texel tangent convention above (Daubert §4): the binormal n × x is
+// perpendicular to the normal and the x axis, and the tangent b × n = x − n (n·x)
+// lies in the plane of n and x. Where n is along x the plane is undefined and y
+// takes the x axis's place. Fitted mip levels re-derive it from averaged normals.
+glm::vec3 TexelTangent(glm::vec3 normal);
+
 // The file bytes above, and back. `source` names the data in error messages.
 // Encoding throws Error(kInvalidArgument) if the arrays disagree with the dimensions.
 std::string EncodeRadianceSamples(const RadianceSamples& samples);

@@ -4,13 +4,6 @@
 
 namespace loom {
 
-glm::vec3 SafeNormalize(glm::vec3 v, glm::vec3 fallback) {
-  const float length2 = glm::dot(v, v);
-  // Squared lengths below this lose the precision a unit vector needs (and 1/√
-  // of a denormal overflows); yarn meshes are far coarser.
-  return length2 > 1e-24f && std::isfinite(length2) ? v / std::sqrt(length2) : fallback;
-}
-
 SurfacePoint MakeSurfacePoint(const FabricTile& tile, const RayHit& hit, glm::vec3 direction) {
   const TriangleMesh& mesh = tile.mesh;
   const uint32_t* corner = &mesh.indices[3 * size_t{hit.triangle}];

@@ -10,6 +10,7 @@
 
 #include "core/acquire/periodic_scene.h"
 #include "core/fabric/fabric_tile.h"
+#include "core/util/vector_math.h"
 
 namespace loom {
 
@@ -32,8 +33,5 @@ struct SurfacePoint {
 // than produce NaN: a zero interpolated normal becomes the triangle normal, and
 // both vanishing make the surface face the ray.
 SurfacePoint MakeSurfacePoint(const FabricTile& tile, const RayHit& hit, glm::vec3 direction);
-
-// v / |v|, or `fallback` where |v| is too small for the division to be meaningful.
-glm::vec3 SafeNormalize(glm::vec3 v, glm::vec3 fallback);
 
 }  // namespace loom

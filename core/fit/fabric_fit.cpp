@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "core/acquire/parallel_for.h"
-#include "core/acquire/surface_point.h"
+#include "core/util/parallel_for.h"
+#include "core/util/vector_math.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
 
@@ -57,7 +57,7 @@ FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
       }
     }
     coarse.normals[texel] = SafeNormalize(normal, glm::vec3(0, 0, 1));
-    coarse.tangents[texel] = TangentFromNormal(coarse.normals[texel]);
+    coarse.tangents[texel] = TexelTangent(coarse.normals[texel]);
   }
   return coarse;
 }

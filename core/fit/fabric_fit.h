@@ -7,7 +7,7 @@
 // samples of the 2^{k+1}×2^{k+1} level-0 texels it covers: the paper's "fitted, not
 // filtered" mip levels, each level seeing the same number of samples. Its normal is
 // its children's normals averaged, its tangent re-derived from that normal as
-// acquisition derives tangents (core/fit/lafortune_brdf.h TangentFromNormal), and
+// acquisition derives tangents (core/acquire/radiance_samples.h TexelTangent), and
 // its alpha per view the mean of its children's (alpha is not fitted, §5).
 //
 // Empty texels (no view with alpha > 0) keep status kEmpty and take their

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/acquire/surface_point.h"
+#include "core/util/vector_math.h"
 
 namespace loom {
 
@@ -51,11 +51,5 @@ bool LafortuneBrdf::AllFinite() const {
 
 TexelFrame::TexelFrame(glm::vec3 normal, glm::vec3 tangent)
     : normal_(normal), tangent_(tangent), bitangent_(glm::cross(normal, tangent)) {}
-
-glm::vec3 TangentFromNormal(glm::vec3 n) {
-  const glm::vec3 x(1, 0, 0);
-  const glm::vec3 y(0, 1, 0);
-  return SafeNormalize(x - n * glm::dot(n, x), SafeNormalize(y - n * glm::dot(n, y), x));
-}
 
 }  // namespace loom

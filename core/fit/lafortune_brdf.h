@@ -96,9 +96,4 @@ class TexelFrame {
   glm::vec3 normal_, tangent_, bitangent_;
 };
 
-// Acquisition's tangent convention (Daubert §4): the x axis made perpendicular to
-// the normal, i.e. in the plane of n and x with t·x ≥ 0; y takes x's place where n
-// is along x. Mip levels re-derive it from their averaged normals (§5.1).
-glm::vec3 TangentFromNormal(glm::vec3 normal);
-
 }  // namespace loom

@@ -51,7 +51,7 @@ RadianceSamples MakeFabricSamples() {
   for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
     const glm::vec3 normal = TrueNormal(texel);
     samples.normals[texel] = normal;
-    samples.tangents[texel] = TangentFromNormal(normal);
+    samples.tangents[texel] = TexelTangent(normal);
     const TexelFrame frame(normal, samples.tangents[texel]);
     const LafortuneBrdf brdf = TrueBrdf(texel);
     for (size_t v = 0; v < samples.view_count(); ++v) {

@@ -4,6 +4,8 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "core/acquire/radiance_samples.h"
+
 namespace loom {
 namespace {
 
@@ -48,7 +50,7 @@ TEST(LafortuneBrdf, PackUnpackRoundTrip) {
 
 TEST(TexelFrame, MapsNormalToZAndTangentToX) {
   const glm::vec3 n = glm::normalize(glm::vec3(0.2f, -0.3f, 0.9f));
-  const glm::vec3 t = TangentFromNormal(n);
+  const glm::vec3 t = TexelTangent(n);
   EXPECT_NEAR(glm::dot(t, n), 0.0f, 1e-6);
   EXPECT_GT(t.x, 0.0f);
   EXPECT_NEAR(glm::dot(glm::cross(n, glm::vec3(1, 0, 0)), t), 0.0f, 1e-6) << "in the plane of n and x";

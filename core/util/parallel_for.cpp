@@ -1,4 +1,4 @@
-#include "core/acquire/parallel_for.h"
+#include "core/util/parallel_for.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,6 +1,6 @@
 #pragma once
-// A minimal parallel loop for acquisition's independent work items (texels,
-// vertices). Items are handed out in index order through an atomic counter; each
+// A minimal parallel loop for independent work items (texels, vertices, texel
+// channels). Items are handed out in index order through an atomic counter; each
 // item must write only its own outputs and draw its random numbers from a
 // generator seeded by its index, so the result does not depend on the schedule or
 // on the thread count.
