@@ -30,10 +30,6 @@ nlohmann::json TileJson(const FabricTile& tile) {
           {"z_max", tile.z_max}};
 }
 
-v1::PrecomputeSettings LoadSettings(const std::string& path) {
-  return path.empty() ? v1::PrecomputeSettings() : LoadSpecFile<v1::PrecomputeSettings>(path, "precompute");
-}
-
 nlohmann::json FitJson(const FittedFabric& fitted) {
   nlohmann::json levels = nlohmann::json::array();
   size_t texels = 0;
@@ -72,6 +68,17 @@ uintmax_t DirectoryBytes(const std::filesystem::path& directory) {
 
 }  // namespace
 
+void FabricInput::AddTo(CLI::App* command) {
+  command->add_option("fabric", fabric, "Fabric spec file (JSON)")->required();
+  command->add_option("--settings", settings, "Precompute settings file (JSON); defaults if absent");
+}
+
+v1::FabricSpec FabricInput::LoadFabric() const { return LoadSpecFile<v1::FabricSpec>(fabric, "fabric"); }
+
+v1::PrecomputeSettings FabricInput::LoadSettings() const {
+  return settings.empty() ? v1::PrecomputeSettings() : LoadSpecFile<v1::PrecomputeSettings>(settings, "precompute");
+}
+
 LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
     std::string fabric, obj;
@@ -104,20 +111,20 @@ LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags) {
 
 LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string fabric, settings, out;
+    FabricInput input;
+    std::string out;
     unsigned threads = 0;
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
       "acquire", "Render a fabric's radiance samples (views × lights per texel) into a samples file");
-  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
-  command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
+  options->input.AddTo(command);
   command->add_option("--out,-o", options->out, "Output samples file (format: core/acquire/radiance_samples.h)")
       ->required();
   command->add_option("--threads", options->threads, "Worker threads (0 = every core)");
   return {command, [&flags, options] {
-            const auto fabric = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
-            const auto settings = LoadSettings(options->settings);
+            const auto fabric = options->input.LoadFabric();
+            const auto settings = options->input.LoadSettings();
             const auto start = std::chrono::steady_clock::now();
             const FabricTile tile = BuildFabricTile(fabric);
             const double geometry_seconds = SecondsSince(start);
@@ -157,18 +164,18 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
 
 LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string fabric, settings, out;
+    FabricInput input;
+    std::string out;
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
       "precompute", "Geometry → acquisition → fit → fabric asset (the cached fitted BRDF array) in a directory");
-  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
-  command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
+  options->input.AddTo(command);
   command->add_option("--out,-o", options->out, "Output directory (parameters.exr, lut.exr, manifest.json)")
       ->required();
   return {command, [&flags, options] {
-            const auto fabric = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
-            const auto settings = LoadSettings(options->settings);
+            const auto fabric = options->input.LoadFabric();
+            const auto settings = options->input.LoadSettings();
             const auto start = std::chrono::steady_clock::now();
             PrecomputeStats stats;
             FittedFabric fitted;

@@ -9,6 +9,8 @@
 #include <memory>
 
 #include "core/gl/egl_context.h"
+#include "loom/v1/fabric.pb.h"
+#include "loom/v1/precompute.pb.h"
 
 namespace loom::lab {
 
@@ -38,6 +40,15 @@ struct GlFlags {
 };
 void AddGlFlags(CLI::App* command, GlFlags* flags);
 std::unique_ptr<gl::EglContext> MakeContext(const GlFlags& flags);
+
+// A fabric spec file and an optional precompute settings file (defaults when
+// absent), the input of every fabric subcommand.
+struct FabricInput {
+  std::string fabric, settings;
+  void AddTo(CLI::App* command);
+  v1::FabricSpec LoadFabric() const;
+  v1::PrecomputeSettings LoadSettings() const;
+};
 
 nlohmann::json DeviceJson(const gl::DeviceInfo& info);
 void PrintJson(const nlohmann::json& figures);

@@ -34,20 +34,17 @@ LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags) {
 
 LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string fabric, settings;
+    FabricInput input;
     bool canonical = false;
   };
   auto options = std::make_shared<Options>();
   auto* command =
       app.add_subcommand("key", "Print a fabric's cache key (content hash of fabric + precompute settings)");
-  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
-  command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
+  options->input.AddTo(command);
   command->add_flag("--canonical", options->canonical, "Also print the canonical form that is hashed");
   return {command, [&flags, options] {
-            const auto fabric = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
-            const auto settings = options->settings.empty()
-                                      ? v1::PrecomputeSettings()
-                                      : LoadSpecFile<v1::PrecomputeSettings>(options->settings, "precompute");
+            const auto fabric = options->input.LoadFabric();
+            const auto settings = options->input.LoadSettings();
             ValidationIssues issues = Validate(fabric);
             const ValidationIssues settings_issues = Validate(settings);
             issues.insert(issues.end(), settings_issues.begin(), settings_issues.end());

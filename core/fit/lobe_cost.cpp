@@ -1,7 +1,10 @@
 #include "core/fit/lobe_cost.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 #include <Eigen/Dense>
 
@@ -148,6 +151,12 @@ void AddLobeParameterBounds(ceres::Problem& problem, double* x, uint32_t lobes) 
 }
 
 ceres::Solver::Options LobeSolverOptions(uint32_t max_iterations) {
+  // Ceres reports benign numerical notes from its step-size interpolation through
+  // glog ("Unable to find the critical points of the interpolating polynomial"),
+  // thousands per fabric; a fit's outcome is in its own status and statistics, so
+  // only fatal messages may reach the user's terminal.
+  static std::once_flag quiet_glog;
+  std::call_once(quiet_glog, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

@@ -43,6 +43,21 @@ float SectionGauge(SectionShape shape, glm::vec2 half_extent, glm::vec2 uv) {
   return (v + std::sqrt(v * v + 4 * b * b * u * u / (a * a))) / (2 * b);
 }
 
+// Whether yarn b moved by `shift` is yarn a itself a whole number of periods on
+// (the same thread, whose nearby points are neighbours along it, not a crossing),
+// and by how many periods.
+struct ThreadCopy {
+  bool same = false;
+  float periods = 0.0f;
+};
+
+ThreadCopy SameThreadCopy(const TileYarns& tile, size_t a, size_t b, glm::vec3 shift) {
+  if (a != b) return {};
+  const glm::vec3 period = tile.yarns[b].period;
+  const float along = glm::dot(shift, period) / glm::dot(period, period);
+  return {glm::length(shift - along * period) < 1e-4f * glm::length(period), along};
+}
+
 }  // namespace
 
 Clearance MeasureClearance(const TileYarns& tile) {
@@ -63,15 +78,9 @@ Clearance MeasureClearance(const TileYarns& tile) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const glm::vec3 shift(dx * tile_size.x, dy * tile_size.y, 0.0f);
-          // A copy of the same yarn shifted by whole periods is the same thread.
-          float periods = 0.0f;
-          bool same = false;
-          if (a == b) {
-            const glm::vec3 period = tile.yarns[b].period;
-            const float along = glm::dot(shift, period) / glm::dot(period, period);
-            same = glm::length(shift - along * period) < 1e-4f * glm::length(period);
-            periods = along;
-          }
+          const ThreadCopy copy = SameThreadCopy(tile, a, b, shift);
+          const bool same = copy.same;
+          const float periods = copy.periods;
           for (size_t i = 0; i + 1 < sa.size(); ++i) {
             const Sample& p = sa[i];
             for (size_t j = 0; j + 1 < sb.size(); ++j) {
@@ -128,14 +137,9 @@ Clearance SurfaceClearance(const TileYarns& tile, int ring_vertices) {
           for (int dy = -1; dy <= 1; ++dy) {
             for (int dx = -1; dx <= 1; ++dx) {
               const glm::vec3 shift(dx * tile_size.x, dy * tile_size.y, 0.0f);
-              float periods = 0.0f;
-              bool same = false;
-              if (a == b) {
-                const glm::vec3 period = tile.yarns[b].period;
-                const float along = glm::dot(shift, period) / glm::dot(period, period);
-                same = glm::length(shift - along * period) < 1e-4f * glm::length(period);
-                periods = along;
-              }
+              const ThreadCopy copy = SameThreadCopy(tile, a, b, shift);
+              const bool same = copy.same;
+              const float periods = copy.periods;
               for (size_t j = 0; j + 1 < sb.size(); ++j) {
                 const glm::vec3 q0 = sb[j].p + shift, q1 = sb[j + 1].p + shift;
                 const glm::vec3 seg = q1 - q0;
