@@ -11,6 +11,10 @@
 
 #include "core/fabric/knit_tile.h"
 #include "core/fabric/yarn_material.h"
+#include "core/spec/defaults.h"
+#include "core/spec/limits.h"
+#include "core/spec/spec_json.h"
+#include "core/spec/validate.h"
 #include "core/util/error.h"
 #include "fabric_specs.h"
 
@@ -229,6 +233,40 @@ TEST(FabricTile, MaterialsFollowTheYarns) {
   EXPECT_EQ(std::count(tile.triangle_material.begin(), tile.triangle_material.end(), 1u),
             static_cast<std::ptrdiff_t>(tile.triangle_material.size() / 2));  // the wefts
   EXPECT_FLOAT_EQ(SpecularExponentFromRoughness(1.0f), 1.0f);
+}
+
+// Every spec the validator accepts builds: each pattern at the extremes of its
+// limits (the largest tile, the thickest yarn, the most jitter, both loop aspects,
+// the widest gap and steepest inclination) gives a finite, non-empty tile.
+TEST(FabricTile, SpecsAtTheValidatorsLimitsBuild) {
+  std::vector<v1::FabricSpec> extremes;
+  for (const float aspect : {kMinLoopAspect, kMaxLoopAspect}) {
+    for (NamedFabric& knit : KnitFabrics(kMaxKnitYarnRadius)) {
+      v1::KnitSpec& k = *knit.spec.mutable_knit();
+      k.set_loop_aspect(aspect);
+      k.set_loop_jitter(kMaxLoopJitter);
+      const uint32_t wales = WithDefaults(knit.spec).knit().wales();
+      const uint32_t courses = WithDefaults(knit.spec).knit().courses();
+      k.set_wales(kMaxLoopsPerTileSide / wales * wales);
+      k.set_courses(kMaxLoopsPerTileSide / courses * courses);
+      extremes.push_back(knit.spec);
+    }
+  }
+  for (NamedFabric& woven : WovenFabrics(0.89f)) {
+    woven.spec.mutable_woven()->set_inclination_degrees(60.0f);
+    woven.spec.mutable_yarns(0)->set_radius(kMaxYarnRadius);
+    extremes.push_back(woven.spec);
+  }
+  // The largest satin repeat with its largest valid move (odd, 1 < m < n − 1).
+  extremes.push_back(
+      ParseSpecJson<v1::FabricSpec>(R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 32, "m": 29}})", "fabric"));
+  for (const v1::FabricSpec& spec : extremes) {
+    ASSERT_TRUE(Validate(spec).empty()) << FormatIssues(Validate(spec));
+    const FabricTile tile = BuildFabricTile(spec);
+    ASSERT_GT(tile.mesh.triangle_count(), 0u);
+    for (const glm::vec3& p : tile.mesh.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
+    EXPECT_LT(tile.z_min, tile.z_max);
+  }
 }
 
 TEST(FabricTile, RejectsBadSpecsNamingTheField) {
