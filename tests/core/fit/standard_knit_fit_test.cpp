@@ -1,0 +1,70 @@
+// The fit on real samples: the standard knit's radiance samples (reduced in size so
+// the test stays fast) rather than synthetic ones.
+
+#include <gtest/gtest.h>
+
+#include "core/acquire/acquisition.h"
+#include "core/fabric/fabric_tile.h"
+#include "core/fit/texel_fit.h"
+#include "core/spec/spec_json.h"
+
+namespace loom {
+namespace {
+
+// Daubert §5: the lobe fit and the LUT update alternate "until the average
+// difference of the previous lookup table's entries to the new one's is below a
+// certain threshold". On the standard knit every channel of every texel gets there
+// or uses up its rounds, its last change smaller than its first. The change does
+// not always shrink every round (the printed count of increases; issue 4 asks for
+// non-increasing sequences, which this fit does not yet give).
+TEST(StandardKnitFit, AlternationConvergesOnEveryTexel) {
+  v1::PrecomputeSettings settings;
+  settings.set_spatial_resolution(8);
+  settings.set_view_directions(36);
+  settings.set_light_directions(36);
+  settings.set_supersampling(1);
+  settings.set_lut_change_threshold(1e-3f);  // tight, so the sequences are long
+  settings.set_max_alternations(8);
+  const RadianceSamples samples =
+      Acquire(BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}})", "fabric")), settings);
+  const TexelFitOptions options = MakeTexelFitOptions(settings);
+
+  size_t sequences = 0, increasing = 0, multi_round = 0, increasing_sequences = 0;
+  for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
+    const glm::vec3 n = samples.normals[texel];
+    const glm::vec3 t = samples.tangents[texel];
+    const TexelFrame frame(n, t);
+    TexelSamples texel_samples(static_cast<uint32_t>(samples.view_count()));
+    for (size_t view = 0; view < samples.view_count(); ++view) {
+      if (samples.alpha[samples.AlphaIndex(texel, view)] <= 0.0f) continue;
+      for (size_t light = 0; light < samples.light_count(); ++light) {
+        texel_samples.Add(frame.ToLocal(samples.light_directions[light]), frame.ToLocal(samples.view_directions[view]),
+                          static_cast<uint32_t>(view), samples.radiance[samples.RadianceIndex(texel, view, light)]);
+      }
+    }
+    const TexelFit fit = FitTexel(texel_samples, options);
+    for (const std::vector<double>& changes : fit.lut_changes) {
+      if (changes.empty()) continue;
+      ++sequences;
+      if (changes.size() > 2) ++multi_round;
+      bool increased = false;
+      for (size_t i = 1; i < changes.size(); ++i) {
+        if (changes[i] > changes[i - 1] * (1.0 + 1e-9)) {
+          ++increasing;
+          increased = true;
+        }
+      }
+      if (increased) ++increasing_sequences;
+      EXPECT_LE(changes.back(), changes.front());
+      // It stopped because it converged, or because it ran out of rounds.
+      EXPECT_TRUE(changes.back() < settings.lut_change_threshold() || changes.size() == settings.max_alternations());
+    }
+  }
+  std::printf("%zu sequences, %zu with more than two rounds; %zu sequences rise somewhere (%zu rises)\n", sequences,
+              multi_round, increasing_sequences, increasing);
+  EXPECT_GT(sequences, 150u);
+  EXPECT_GT(multi_round, sequences / 4);
+}
+
+}  // namespace
+}  // namespace loom
