@@ -14,6 +14,7 @@
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
+#include "core/acquire/yarn_radiance.h"
 #include "core/acquire/yarn_shading.h"
 #include "core/spec/defaults.h"
 #include "core/spec/limits.h"
@@ -202,18 +203,11 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
         if (!point.front) continue;  // the inside of a yarn: opaque and black
 
         const YarnBrdf& brdf = pass.brdfs[point.material];
-        const glm::vec3 shadow_origin = point.position + point.geometric_normal * kRayOffset;
         if (indirect) pass.indirect.Interpolate(pass.tile.mesh, *hit, scratch.irradiance.data());
         for (size_t light = 0; light < pass.light_count; ++light) {
           const glm::vec3 l = samples.light_directions[pass.first_light + light];
           glm::vec3 radiance = indirect ? brdf.diffuse() * scratch.irradiance[light] : glm::vec3(0.0f);
-          const float cosine = glm::dot(point.normal, l);
-          // Light behind the triangle itself is blocked even where the
-          // interpolated normal leans towards it.
-          if (cosine > 0.0f && glm::dot(point.geometric_normal, l) > 0.0f) {
-            ++rays;
-            if (!pass.scene.Occluded(shadow_origin, l)) radiance += brdf.Evaluate(point.normal, point.tangent, l, v) * cosine;
-          }
+          radiance += DirectYarnRadiance(pass.scene, point, brdf, l, v, rays);
           scratch.sum[light] += radiance;
         }
       }

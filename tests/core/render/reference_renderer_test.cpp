@@ -1,0 +1,163 @@
+#include "core/render/reference_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+#include <string>
+
+#include "core/acquire/acquisition.h"
+#include "core/fabric/fabric_tile.h"
+#include "core/spec/defaults.h"
+#include "core/spec/spec_json.h"
+#include "core/spec/validate.h"
+
+namespace loom {
+namespace {
+
+ReferenceFrame RenderJson(const std::string& json, unsigned threads = 2) {
+  const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
+  ValidateOrThrow(scene);
+  return ReferenceRenderer(threads).Render(scene, BuildSceneGeometry(scene, FileMeshResolver(".")));
+}
+
+// An orthographic camera straight down on the 2 × 2 square about the origin.
+constexpr const char* kTopCamera = R"("camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2,
+    "position": {"x": 0, "y": 0, "z": 5}, "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10})";
+
+// A white plain weave: diffuse albedo 0.8, no fibre lobe.
+std::string WhiteWeave(float gap) {
+  return R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": )" + std::to_string(gap) +
+         R"(}, "yarns": [{"diffuse_albedo": {"r": 0.8, "g": 0.8, "b": 0.8}, "specular_albedo": {"r": 0, "g": 0, "b": 0}}]})";
+}
+
+// That weave on the 2 × 2 plane, 8 × 8 tiles, under a zenith light; optionally over a red plane.
+std::string ClothScene(float gap, bool red_floor, int size, int samples) {
+  const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
+                                      : "";
+  const std::string side = std::to_string(size);
+  return R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
+      "fabric": {"fabric": )" + WhiteWeave(gap) + R"(, "repeat_u": 8, "repeat_v": 8}})" + floor + "], " + kTopCamera + R"(,
+    "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 1}],
+    "render": {"method": "RENDER_METHOD_REFERENCE", "width": )" + side + R"(, "height": )" + side +
+         R"(, "reference_samples": )" + std::to_string(samples) + "}}";
+}
+
+TEST(ReferenceRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrradiance) {
+  const ReferenceFrame frame = RenderJson(std::string(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"scale": {"x": 2, "y": 2, "z": 1}}, "base_colour": {"r": 0.6, "g": 0.3, "b": 0.15}}], )") +
+      kTopCamera + R"(, "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2.5, "casts_shadows": true}],
+      "render": {"width": 48, "height": 48, "reference_samples": 4}})");
+  const glm::vec3 albedo(0.6f, 0.3f, 0.15f);
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 48; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_NEAR(frame.image.at(x, y, c), albedo[c] / glm::pi<float>() * 2.5f, 1e-4f) << x << "," << y;
+      }
+    }
+  }
+}
+
+// Ties the reference to acquisition: the same fabric seen head-on under a zenith
+// light has the mean radiance of acquisition's samples for the zenith view and light.
+TEST(ReferenceRenderer, ClothPlaneMatchesAcquisitionAtTheZenith) {
+  const ReferenceFrame frame = RenderJson(ClothScene(0.0f, false, 48, 16));
+  double rendered = 0.0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) rendered += frame.image.at(x, y, 0);
+  rendered /= 48.0 * 48.0;
+
+  v1::PrecomputeSettings settings;
+  settings.set_spatial_resolution(16);
+  settings.set_view_directions(9);  // a 3 × 3 grid: the centre direction is the zenith
+  settings.set_light_directions(9);
+  settings.set_supersampling(4);
+  const RadianceSamples samples =
+      Acquire(BuildFabricTile(WithDefaults(ParseSpecJson<v1::FabricSpec>(WhiteWeave(0.0f), "fabric"))), settings);
+  constexpr size_t kZenith = 4;
+  ASSERT_NEAR(samples.view_directions[kZenith].z, 1.0f, 1e-6f);
+  ASSERT_NEAR(samples.light_directions[kZenith].z, 1.0f, 1e-6f);
+  double acquired = 0.0;
+  for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
+    acquired += samples.radiance[samples.RadianceIndex(texel, kZenith, kZenith)].r *
+                samples.alpha[samples.AlphaIndex(texel, kZenith)];
+  }
+  acquired /= static_cast<double>(samples.texel_count());
+  EXPECT_GT(acquired, 0.1);
+  EXPECT_NEAR(rendered, acquired, 0.02 * acquired);
+}
+
+// Pixels where the red plane below shows: red well above green.
+double RedFraction(const Image& image) {
+  int red = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) red += image.at(x, y, 0) > 1.5f * image.at(x, y, 1) + 1e-3f;
+  return static_cast<double>(red) / (image.width * image.height);
+}
+
+TEST(ReferenceRenderer, HolesOfALooseWeaveShowTheRedPlaneBelow) {
+  const double loose = RedFraction(RenderJson(ClothScene(0.4f, true, 48, 4)).image);
+  const double dense = RedFraction(RenderJson(ClothScene(0.0f, true, 48, 4)).image);
+  EXPECT_GT(loose, 0.02);
+  EXPECT_LT(dense, 0.02);
+}
+
+// The weave's shadow on the red plane 0.5 below it, cast by a light 45° off the
+// zenith towards +x, covers x ∈ [−1.5, 0.5]; x < −1 of it is not under the cloth.
+// The camera sees x, y ∈ [−2, 2].
+double MeanRedBesideTheCloth(float gap) {
+  const std::string scene = R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
+      "fabric": {"fabric": )" + WhiteWeave(gap) + R"(, "repeat_u": 8, "repeat_v": 8}},
+      {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}},
+       "base_colour": {"r": 1, "g": 0, "b": 0}}],
+    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 4, "position": {"x": 0, "y": 0, "z": 5},
+               "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
+    "lights": [{"direction": {"x": 1, "y": 0, "z": 1}, "intensity": 1, "casts_shadows": true}],
+    "render": {"width": 48, "height": 48, "reference_samples": 4}})";
+  const Image image = RenderJson(scene).image;
+  // Pixels over x ∈ [−1.4, −1.1], y ∈ [−0.8, 0.8]: in the shadow, not under the cloth.
+  double sum = 0.0;
+  int count = 0;
+  for (int y = 14; y < 34; ++y)
+    for (int x = 8; x < 11; ++x, ++count) sum += image.at(x, y, 0);
+  return sum / count;
+}
+
+TEST(ReferenceRenderer, ALooseWeaveCastsALacyShadow) {
+  const float lit = 1.0f / glm::pi<float>() * std::sqrt(0.5f);  // the red plane, unshadowed
+  const double loose = MeanRedBesideTheCloth(0.4f);
+  const double dense = MeanRedBesideTheCloth(0.0f);
+  EXPECT_LT(dense, 0.02 * lit);
+  EXPECT_GT(loose, 0.05 * lit);
+  EXPECT_LT(loose, 0.9 * lit);
+}
+
+// The locally flat shell on curved surfaces at the largest supported repeat.
+TEST(ReferenceRenderer, KnitSphereAndCylinderAt64x64Render) {
+  for (const char* shape : {"BUILTIN_SHAPE_SPHERE", "BUILTIN_SHAPE_CYLINDER"}) {
+    const Image image = RenderJson(std::string(R"({"objects": [{"mesh": {"builtin": ")") + shape + R"("},
+        "fabric": {"fabric": {"knit": {}}, "repeat_u": 64, "repeat_v": 64}}],
+      "camera": {"position": {"x": 0, "y": -4, "z": 0.5}, "target": {"x": 0, "y": 0, "z": 0}},
+      "lights": [{"direction": {"x": 0.3, "y": -1, "z": 0.5}, "intensity": 3, "casts_shadows": true}],
+      "background": {"r": 0, "g": 0, "b": 1},
+      "render": {"width": 32, "height": 32, "reference_samples": 4}})").image;
+    int lit = 0;
+    for (float value : image.pixels) ASSERT_TRUE(std::isfinite(value)) << shape;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x) lit += image.at(x, y, 0) > 0.05f;
+    EXPECT_GT(lit, 32) << shape;  // yarn covers part of the frame
+  }
+}
+
+TEST(ReferenceRenderer, FramesAreBitIdenticalWhateverTheThreadCount) {
+  const std::string scene = ClothScene(0.4f, true, 24, 4);
+  const ReferenceFrame one = RenderJson(scene, 1);
+  const ReferenceFrame two = RenderJson(scene, 2);
+  EXPECT_EQ(one.image.pixels, two.image.pixels);
+  EXPECT_EQ(one.rays, two.rays);
+}
+
+}  // namespace
+}  // namespace loom
