@@ -58,16 +58,27 @@ ThreadCopy SameThreadCopy(const TileYarns& tile, size_t a, size_t b, glm::vec3 s
   return {glm::length(shift - along * period) < 1e-4f * glm::length(period), along};
 }
 
+// Every yarn's dense centre samples, the tile's size in model space and the
+// largest cross-section extent: what both clearance measures start from.
+struct SampledTile {
+  glm::vec3 tile_size;
+  std::vector<std::vector<Sample>> yarns;
+  float max_extent = 0.0f;
+};
+
+SampledTile SampleTile(const TileYarns& tile) {
+  SampledTile sampled{1.0f / tile.model_to_tile, {}, 0.0f};
+  for (const PeriodicYarn& yarn : tile.yarns) {
+    sampled.yarns.push_back(Samples(yarn));
+    for (glm::vec2 s : yarn.section) sampled.max_extent = std::max({sampled.max_extent, s.x, s.y});
+  }
+  return sampled;
+}
+
 }  // namespace
 
 Clearance MeasureClearance(const TileYarns& tile) {
-  const glm::vec3 tile_size = 1.0f / tile.model_to_tile;
-  std::vector<std::vector<Sample>> yarns;
-  float max_extent = 0.0f;
-  for (const PeriodicYarn& yarn : tile.yarns) {
-    yarns.push_back(Samples(yarn));
-    for (glm::vec2 s : yarn.section) max_extent = std::max({max_extent, s.x, s.y});
-  }
+  const auto [tile_size, yarns, max_extent] = SampleTile(tile);
   Clearance best;
   best.ratio = std::numeric_limits<float>::infinity();
   for (size_t a = 0; a < yarns.size(); ++a) {
@@ -115,13 +126,7 @@ Clearance MeasureClearance(const TileYarns& tile) {
 }
 
 Clearance SurfaceClearance(const TileYarns& tile, int ring_vertices) {
-  const glm::vec3 tile_size = 1.0f / tile.model_to_tile;
-  std::vector<std::vector<Sample>> yarns;
-  float max_extent = 0.0f;
-  for (const PeriodicYarn& yarn : tile.yarns) {
-    yarns.push_back(Samples(yarn));
-    for (glm::vec2 s : yarn.section) max_extent = std::max({max_extent, s.x, s.y});
-  }
+  const auto [tile_size, yarns, max_extent] = SampleTile(tile);
   Clearance best;
   best.ratio = std::numeric_limits<float>::infinity();
   for (size_t a = 0; a < yarns.size(); ++a) {
