@@ -245,6 +245,7 @@ void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& 
       {"settings", json::parse(SpecToJson(resolved, false))},
       {"lobes", fabric.lobes},
       {"lookup_table", fabric.lookup_table},
+      {"sampling_height", fabric.sampling_height},
       {"half_float", half},
       {"resolution", fabric.levels.front().resolution},
       {"view_directions", fabric.view_directions.size()},
@@ -272,6 +273,7 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
     FittedFabric fabric;
     fabric.lobes = manifest.at("lobes");
     fabric.lookup_table = manifest.at("lookup_table");
+    fabric.sampling_height = manifest.at("sampling_height");
     fabric.seconds = manifest.at("fit_seconds");
     fabric.view_directions = HemisphereGridDirections(manifest.at("view_directions").get<uint32_t>());
     const json& files = manifest.at("files");

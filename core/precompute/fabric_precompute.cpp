@@ -47,6 +47,7 @@ FittedFabric PrecomputeFabric(const v1::FabricSpec& fabric, const v1::Precompute
   FittedFabric fitted = FitFabric(samples, settings, [&report](double f, std::string_view stage) {
     report(kAcquireShare + (1.0 - kAcquireShare) * f, "fit: " + std::string(stage));
   });
+  fitted.sampling_height = tile.z_max;
   figures.fit_seconds = SecondsSince(start);
   report(1.0, "done");
   return fitted;

@@ -28,6 +28,7 @@ FabricTextureData FabricTextureData::FromFit(const FittedFabric& fit) {
     throw Error(ErrorCode::kInvalidArgument, "fitted fabric: no levels, or a view count that is not k²");
   }
   data.Allocate(fit.levels[0].resolution, fit.lobes, view_side, static_cast<uint32_t>(fit.levels.size()));
+  data.sampling_height = fit.sampling_height;
   for (uint32_t level = 0; level < data.levels(); ++level) {
     const FittedLevel& fitted = fit.levels[level];
     if (fitted.resolution != data.LevelResolution(level)) {
@@ -58,7 +59,11 @@ FabricTextureData FabricTextureData::FromFit(const FittedFabric& fit) {
 }
 
 FabricTextures::FabricTextures(const FabricTextureData& data, bool half)
-    : resolution_(data.resolution), lobes_(data.lobes), view_side_(data.view_side), levels_(data.levels()) {
+    : resolution_(data.resolution),
+      lobes_(data.lobes),
+      view_side_(data.view_side),
+      levels_(data.levels()),
+      sampling_height_(data.sampling_height) {
   if (levels_ == 0 || resolution_ == 0 || view_side_ == 0 || (resolution_ >> (levels_ - 1)) == 0) {
     throw Error(ErrorCode::kInvalidArgument, "fabric textures: empty or inconsistent levels");
   }
@@ -106,6 +111,7 @@ void FabricTextures::Bind(const gl::ShaderProgram& program, int first_unit, glm:
   program.Set("u_fabric_resolution", static_cast<int>(resolution_));
   program.Set("u_fabric_view_side", static_cast<int>(view_side_));
   program.Set("u_fabric_repeat", repeat);
+  program.Set("u_fabric_sampling_height", sampling_height_);
 }
 
 }  // namespace loom

@@ -33,6 +33,7 @@ struct FabricTextureData {
   uint32_t resolution = 0;  // level-0 texels per tile side (a power of two)
   uint32_t lobes = 0;       // lobes evaluated (≤ 3)
   uint32_t view_side = 0;   // k
+  float sampling_height = 0.0f;  // FittedFabric::sampling_height
   // Per level ℓ: kFabricParamLayers layers of r_ℓ² texels, layer-major, rows
   // bottom-up in tile y (texel (x, y) at [layer][y·r_ℓ + x]).
   std::vector<std::vector<glm::vec4>> params;
@@ -72,6 +73,7 @@ class FabricTextures {
   GLuint params_ = 0;
   GLuint lut_ = 0;
   uint32_t resolution_, lobes_, view_side_, levels_;
+  float sampling_height_;
 };
 
 }  // namespace loom

@@ -17,6 +17,7 @@ uniform int u_fabric_levels;
 uniform int u_fabric_resolution;         // level-0 texels per tile side
 uniform int u_fabric_view_side;          // k: the LUT's view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
+uniform float u_fabric_sampling_height;  // tile z of the face the texels were sampled on
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear (LevelMode)
 
 // A texel of one level; its frame is in tile (= surface) space.
@@ -94,7 +95,12 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
                  vec3 ambient) {
   mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
   vec3 view = to_surface * towards_viewer;
-  vec2 tile = uv * u_fabric_repeat;
+  // Acquisition sampled texels on the tile's top face, above the macro surface
+  // (tile z = 0) by the sampling height: look the texel up where the view ray
+  // crosses that face, as the reference's shell does. Tile units are isotropic
+  // (x, y and z scale alike), so the offset is the view's slope times the height;
+  // the slope is capped near grazing, where the face is seen edge-on.
+  vec2 tile = uv * u_fabric_repeat + view.xy / max(view.z, 0.1) * u_fabric_sampling_height;
   int level0, level1;
   float blend;
   FabricLevels(tile, level0, level1, blend);

@@ -34,7 +34,9 @@ FittedFabric SmallFabric(v1::MipLevels mip_levels = v1::MIP_LEVELS_AUTO) {
   v1::PrecomputeSettings settings;
   settings.set_lobes(2);
   settings.set_mip_levels(mip_levels);
-  return FitFabric(samples, settings);
+  FittedFabric fitted = FitFabric(samples, settings);
+  fitted.sampling_height = 0.0625f;
+  return fitted;
 }
 
 class FabricAssetTest : public ::testing::Test {
@@ -54,6 +56,7 @@ void ExpectSameLevels(const FittedFabric& a, const FittedFabric& b, float tolera
   ASSERT_EQ(a.levels.size(), b.levels.size());
   EXPECT_EQ(a.lobes, b.lobes);
   EXPECT_EQ(a.view_directions, b.view_directions);
+  EXPECT_EQ(a.sampling_height, b.sampling_height);
   for (size_t k = 0; k < a.levels.size(); ++k) {
     const FittedLevel& x = a.levels[k];
     const FittedLevel& y = b.levels[k];
