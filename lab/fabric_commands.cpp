@@ -1,25 +1,21 @@
 // loom-lab geometry | acquire | precompute: a fabric's micro-geometry, its radiance
 // samples, and its fitted BRDF array (the cached asset).
 
-#include <chrono>
 #include <cstdio>
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
 #include "core/fit/fabric_asset.h"
 #include "core/precompute/fabric_precompute.h"
-#include "core/spec/fabric_key.h"
 #include "core/scene/obj_writer.h"
+#include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
+#include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
 #include "lab/progress_bar.h"
 
 namespace loom::lab {
 namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 nlohmann::json TileJson(const FabricTile& tile) {
   return {{"yarn_curves", tile.curves.size()},
@@ -90,9 +86,9 @@ LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--obj", options->obj, "Output OBJ file")->required();
   command->add_option("--tiles", options->tiles, "Repeat the tile NX NY times")->expected(2)->check(CLI::Range(1, 64));
   return {command, [&flags, options] {
-            const auto start = std::chrono::steady_clock::now();
+            const Stopwatch stopwatch;
             const FabricTile tile = BuildFabricTile(LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric"));
-            const double build_seconds = SecondsSince(start);
+            const double build_seconds = stopwatch.Seconds();
             WriteObj(tile.mesh, options->obj, options->tiles[0], options->tiles[1]);
             if (flags.json) {
               nlohmann::json figures = TileJson(tile);
@@ -125,9 +121,9 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             const auto fabric = options->input.LoadFabric();
             const auto settings = options->input.LoadSettings();
-            const auto start = std::chrono::steady_clock::now();
+            const Stopwatch stopwatch;
             const FabricTile tile = BuildFabricTile(fabric);
-            const double geometry_seconds = SecondsSince(start);
+            const double geometry_seconds = stopwatch.Seconds();
             AcquireStats stats;
             AcquireOptions acquire_options;
             acquire_options.threads = options->threads;
@@ -176,7 +172,7 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             const auto fabric = options->input.LoadFabric();
             const auto settings = options->input.LoadSettings();
-            const auto start = std::chrono::steady_clock::now();
+            const Stopwatch stopwatch;
             PrecomputeStats stats;
             FittedFabric fitted;
             {
@@ -186,7 +182,7 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
             }
             const std::string key = FabricKey(fabric, settings);
             WriteFabricAsset(fitted, settings, key, options->out);
-            const double total_seconds = SecondsSince(start);
+            const double total_seconds = stopwatch.Seconds();
             const uintmax_t asset_bytes = DirectoryBytes(options->out);
             if (flags.json) {
               PrintJson({{"key", key},
@@ -204,7 +200,7 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
             } else {
               std::printf("wrote %s (%.1f KB): acquisition %.1f s, fit %.1f s (%zu levels), total %.1f s\nkey %s\n",
                           options->out.c_str(), static_cast<double>(asset_bytes) / 1024.0, stats.acquisition.seconds,
-                          stats.fit_seconds, fitted.levels.size(), total_seconds, key.c_str());
+                          fitted.seconds, fitted.levels.size(), total_seconds, key.c_str());
               for (const FittedLevel& level : fitted.levels) {
                 std::printf("  level %u (%u²): relative RMSE %.2f%%, %.1f LM iterations/texel, %u fallbacks, %u empty\n",
                             level.stats.level, level.stats.resolution, 100.0 * level.stats.relative_rmse,

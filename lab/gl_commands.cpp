@@ -1,11 +1,11 @@
 // loom-lab info | test-scene: the headless GL path.
 
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include "core/image/image.h"
 #include "core/render/test_scene.h"
+#include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
 
 namespace loom::lab {
@@ -62,25 +62,25 @@ LabCommand AddTestSceneCommand(CLI::App& app, const LabFlags& flags) {
   AddGlFlags(command, &options->gl);
   return {command, [&flags, options] {
             FormatFromPath(options->out);  // reject a bad extension before any work
-            const auto start = std::chrono::steady_clock::now();
+            Stopwatch stopwatch;
             const auto context = MakeContext(options->gl);
-            const auto made = std::chrono::steady_clock::now();
+            const double context_ms = stopwatch.Milliseconds();
+            stopwatch.Restart();
             const Image image = RenderTestScene(*context, options->scene);
-            const auto drawn = std::chrono::steady_clock::now();
+            const double render_ms = stopwatch.Milliseconds();
             WriteImage(image, options->out);
-            const auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
             if (flags.json) {
               PrintJson({{"output", options->out},
                          {"width", image.width},
                          {"height", image.height},
                          {"msaa_samples", options->scene.msaa_samples},
-                         {"context_ms", ms(start, made)},
-                         {"render_ms", ms(made, drawn)},
+                         {"context_ms", context_ms},
+                         {"render_ms", render_ms},
                          {"device", DeviceJson(context->info())}});
             } else {
               std::printf("wrote %s (%dx%d, %d× MSAA) on %s in %.1f ms\n", options->out.c_str(), image.width,
                           image.height, options->scene.msaa_samples, context->info().gl_renderer.c_str(),
-                          ms(made, drawn));
+                          render_ms);
             }
             return 0;
           }};

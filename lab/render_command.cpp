@@ -2,7 +2,6 @@
 // arrays on the GPU (each distinct fabric precomputed once in this process);
 // `reference` ray traces the real yarn geometry shell-mapped onto the surfaces.
 
-#include <chrono>
 #include <cstdio>
 #include <map>
 
@@ -13,20 +12,17 @@
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
 #include "lab/progress_bar.h"
 
 namespace loom::lab {
 namespace {
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // Renders with svbrdf; adds its figures to `figures`.
 Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
                    nlohmann::json& figures) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   std::map<std::string, FittedFabric> fits;  // one fit per distinct fabric
   std::vector<std::string> keys(meshes.size());
   for (size_t i = 0; i < meshes.size(); ++i) {
@@ -41,7 +37,7 @@ Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& mes
     }
   }
   figures["fabrics"] = fits.size();
-  figures["precompute_seconds"] = SecondsSince(start);
+  figures["precompute_seconds"] = stopwatch.Seconds();
 
   const auto context = MakeContext(gl);
   SvbrdfRenderer renderer(*context);

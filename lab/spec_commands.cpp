@@ -45,10 +45,7 @@ LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             const auto fabric = options->input.LoadFabric();
             const auto settings = options->input.LoadSettings();
-            ValidationIssues issues = Validate(fabric);
-            const ValidationIssues settings_issues = Validate(settings);
-            issues.insert(issues.end(), settings_issues.begin(), settings_issues.end());
-            ThrowIfAny(issues);
+            ThrowIfAny(Validate(fabric, settings));
             const std::string canonical = CanonicalFabricJson(fabric, settings);
             const std::string key = FabricKey(fabric, settings);
             if (flags.json) {

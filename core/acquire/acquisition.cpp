@@ -1,7 +1,6 @@
 #include "core/acquire/acquisition.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -10,7 +9,6 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/acquire/indirect_light.h"
-#include "core/util/parallel_for.h"
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
@@ -19,6 +17,8 @@
 #include "core/spec/defaults.h"
 #include "core/spec/limits.h"
 #include "core/spec/validate.h"
+#include "core/util/parallel_for.h"
+#include "core/util/stopwatch.h"
 
 namespace loom {
 namespace {
@@ -227,7 +227,7 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
                         const AcquireProgress& progress, AcquireStats* stats, const AcquireOptions& options) {
   ThrowIfAny(Validate(requested));
   ThrowIfAny(ValidateTile(tile));
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   const v1::PrecomputeSettings settings = WithDefaults(requested);
   const unsigned threads = ResolveThreadCount(options.threads);
 
@@ -301,7 +301,7 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   tracker.Begin("done", 0);
 
   if (stats) {
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->seconds = stopwatch.Seconds();
     stats->rays = rays.Total() + (indirect ? indirect->gather_rays() : 0);
     stats->threads = threads;
     stats->tiles_x = scene.grid_size().x;

@@ -2,22 +2,18 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
 
-#include "core/util/parallel_for.h"
-#include "core/util/vector_math.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
+#include "core/util/parallel_for.h"
+#include "core/util/stopwatch.h"
+#include "core/util/vector_math.h"
 
 namespace loom {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 uint32_t LevelCount(uint32_t resolution, v1::MipLevels mip_levels) {
   if (mip_levels == v1::MIP_LEVELS_NONE) return 1;
@@ -209,7 +205,7 @@ FitLevelStats LevelStats(uint32_t k, const FittedLevel& level, const std::vector
 
 FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSettings& settings,
                        const FitProgress& progress, unsigned threads) {
-  const Clock::time_point start = Clock::now();
+  const Stopwatch total;
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const TexelFitOptions options = MakeTexelFitOptions(resolved);
   const size_t views = samples.view_count();
@@ -229,7 +225,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   std::vector<double> level_seconds(level_count, 0.0);
   // Every level covers the same samples, so each is an equal share of the progress.
   for (uint32_t k = 0; k < level_count; ++k) {
-    const Clock::time_point level_start = Clock::now();
+    const Stopwatch level_time;
     const size_t texels = size_t{fabric.levels[k].resolution} * fabric.levels[k].resolution;
     const std::string stage = "fitting level " + std::to_string(k);
     channel_fits[k].resize(texels);
@@ -247,7 +243,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
         [&](size_t done) {
           if (progress) progress((k + double(done) / (texels * 3)) / level_count, stage);
         });
-    level_seconds[k] = SecondsSince(level_start);
+    level_seconds[k] = level_time.Seconds();
   }
 
   for (uint32_t k = 0; k < level_count; ++k) {
@@ -266,7 +262,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   }
   if (progress) progress(1.0, "filling empty texels");
   FillEmptyTexels(fabric.levels, views);
-  fabric.seconds = SecondsSince(start);
+  fabric.seconds = total.Seconds();
   return fabric;
 }
 

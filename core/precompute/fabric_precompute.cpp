@@ -1,10 +1,10 @@
 #include "core/precompute/fabric_precompute.h"
 
-#include <chrono>
 #include <string>
 
 #include "core/fabric/fabric_tile.h"
 #include "core/spec/validate.h"
+#include "core/util/stopwatch.h"
 
 namespace loom {
 namespace {
@@ -13,18 +13,11 @@ namespace {
 // the standard knit; geometry is instant.
 constexpr double kAcquireShare = 0.45;
 
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
 FittedFabric PrecomputeFabric(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings,
                               const PrecomputeProgress& progress, PrecomputeStats* stats) {
-  ValidationIssues issues = Validate(fabric);
-  const ValidationIssues settings_issues = Validate(settings);
-  issues.insert(issues.end(), settings_issues.begin(), settings_issues.end());
-  ThrowIfAny(issues);
+  ThrowIfAny(Validate(fabric, settings));
   const auto report = [&progress](double fraction, std::string_view stage) {
     if (progress) progress(fraction, stage);
   };
@@ -32,9 +25,9 @@ FittedFabric PrecomputeFabric(const v1::FabricSpec& fabric, const v1::Precompute
   PrecomputeStats& figures = stats != nullptr ? *stats : local;
 
   report(0.0, "geometry");
-  auto start = std::chrono::steady_clock::now();
+  const Stopwatch geometry_time;
   const FabricTile tile = BuildFabricTile(fabric);
-  figures.geometry_seconds = SecondsSince(start);
+  figures.geometry_seconds = geometry_time.Seconds();
   figures.tile_triangles = tile.mesh.triangle_count();
 
   const RadianceSamples samples = Acquire(
@@ -43,12 +36,10 @@ FittedFabric PrecomputeFabric(const v1::FabricSpec& fabric, const v1::Precompute
       &figures.acquisition);
   figures.mean_alpha = samples.MeanAlpha();
 
-  start = std::chrono::steady_clock::now();
   FittedFabric fitted = FitFabric(samples, settings, [&report](double f, std::string_view stage) {
     report(kAcquireShare + (1.0 - kAcquireShare) * f, "fit: " + std::string(stage));
   });
   fitted.sampling_height = tile.z_max;
-  figures.fit_seconds = SecondsSince(start);
   report(1.0, "done");
   return fitted;
 }

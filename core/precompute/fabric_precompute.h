@@ -17,8 +17,7 @@ struct PrecomputeStats {
   double geometry_seconds = 0.0;
   size_t tile_triangles = 0;
   AcquireStats acquisition;
-  double mean_alpha = 0.0;
-  double fit_seconds = 0.0;
+  double mean_alpha = 0.0;  // the fit's time is FittedFabric::seconds
 };
 
 // fraction in [0, 1] over the whole precompute; stage names the step. Called on

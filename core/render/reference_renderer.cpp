@@ -3,7 +3,6 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -19,9 +18,11 @@
 #include "core/acquire/yarn_shading.h"
 #include "core/fabric/fabric_tile.h"
 #include "core/scene/camera.h"
+#include "core/scene/scene_light.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
 #include "core/util/parallel_for.h"
+#include "core/util/stopwatch.h"
 #include "core/util/vector_math.h"
 
 namespace loom {
@@ -191,26 +192,6 @@ MacroSurface MakeMacroSurface(const TriangleMesh& mesh, const MacroHit& hit, glm
 
 // --- Scene objects -----------------------------------------------------------------
 
-struct SceneLight {
-  bool directional = true;
-  glm::vec3 vector{};      // unit direction towards the light, or its position
-  glm::vec3 radiance{};    // colour × intensity
-  bool casts_shadows = false;
-
-  // Unit direction towards the light from `position` and the irradiance it brings
-  // at normal incidence there (lights.glsl's LightDirection).
-  glm::vec3 Direction(glm::vec3 position, glm::vec3& irradiance) const {
-    if (directional) {
-      irradiance = radiance;
-      return vector;
-    }
-    const glm::vec3 to_light = vector - position;
-    const float distance2 = std::max(glm::dot(to_light, to_light), 1e-8f);
-    irradiance = radiance / distance2;
-    return to_light / std::sqrt(distance2);
-  }
-};
-
 // A cloth object's fabric: its tile, the repeated tile for ray casting, the BRDFs,
 // and (for constant frames) the indirect irradiance of every directional light.
 // Not movable: IndirectLight keeps references to the tile and the scene.
@@ -356,9 +337,9 @@ class Tracer {
     return false;
   }
 
-  // Lambertian in the base colour (default 0.8 grey), as scene.frag's plain objects.
+  // Lambertian in the base colour, as scene.frag's plain objects.
   glm::vec3 PlainRadiance(const v1::SceneObject& object, const MacroSurface& surface, uint64_t& rays) const {
-    const glm::vec3 albedo = object.has_base_colour() ? ToGlm(object.base_colour()) : glm::vec3(0.8f);
+    const glm::vec3 albedo = ToGlm(object.base_colour());
     glm::vec3 radiance = ToGlm(scene_.ambient()) * albedo;
     const glm::vec3 shadow_origin = surface.position + surface.geometric_normal * epsilon_;
     for (const SceneLight& light : lights_) {
@@ -437,16 +418,12 @@ class Tracer {
 ReferenceRenderer::ReferenceRenderer(unsigned threads) : threads_(ResolveThreadCount(threads)) {}
 
 ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes) const {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   const v1::RenderSettings& settings = scene.render();
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
 
   std::vector<SceneLight> lights;
-  for (const v1::Light& light : scene.lights()) {
-    const bool directional = light.type() != v1::LIGHT_TYPE_POINT;
-    lights.push_back({directional, directional ? glm::normalize(ToGlm(light.direction())) : ToGlm(light.position()),
-                      ToGlm(light.colour()) * light.intensity(), light.casts_shadows()});
-  }
+  for (const v1::Light& light : scene.lights()) lights.push_back(MakeSceneLight(light));
 
   // Offsets of continued and shadow rays: relative to the scene's size, far above
   // float rounding of world coordinates and far below any shell thickness.
@@ -504,7 +481,7 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
     }
   });
   frame.rays = rays.Total();
-  frame.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  frame.cpu_ms = stopwatch.Milliseconds();
   return frame;
 }
 

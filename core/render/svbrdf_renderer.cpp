@@ -1,12 +1,13 @@
 #include "core/render/svbrdf_renderer.h"
 
-#include <chrono>
 #include <string>
 
 #include "core/gl/framebuffer.h"
 #include "core/gl/gpu_timer.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/scene/camera.h"
+#include "core/scene/scene_light.h"
+#include "core/util/stopwatch.h"
 
 namespace loom {
 namespace {
@@ -33,16 +34,14 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
   std::vector<glm::vec3> shadow_directions;
   const int count = std::min(scene.lights_size(), kMaxLights);
   for (int i = 0; i < count; ++i) {
-    const v1::Light& light = scene.lights(i);
-    const bool directional = light.type() != v1::LIGHT_TYPE_POINT;
-    const glm::vec3 vector = directional ? glm::normalize(ToGlm(light.direction())) : ToGlm(light.position());
+    const SceneLight light = MakeSceneLight(scene.lights(i));
     int shadow = -1;
-    if (directional && light.casts_shadows() && shadow_directions.size() < kMaxShadowMaps) {
+    if (light.directional && light.casts_shadows && shadow_directions.size() < kMaxShadowMaps) {
       shadow = static_cast<int>(shadow_directions.size());
-      shadow_directions.push_back(vector);
+      shadow_directions.push_back(light.vector);
     }
-    program.Set(Indexed("u_light_vector", i).c_str(), glm::vec4(vector, directional ? 0.0f : 1.0f));
-    program.Set(Indexed("u_light_radiance", i).c_str(), ToGlm(light.colour()) * light.intensity());
+    program.Set(Indexed("u_light_vector", i).c_str(), glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
+    program.Set(Indexed("u_light_radiance", i).c_str(), light.radiance);
     program.Set(Indexed("u_light_shadow", i).c_str(), shadow);
   }
   program.Set("u_light_count", count);
@@ -70,7 +69,7 @@ SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
 
 RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
                                      const std::vector<const FabricTextures*>& fabrics) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
@@ -119,7 +118,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
     if (fabric != nullptr) {
       fabric->Bind(scene_program_, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
     } else {
-      scene_program_.Set("u_base_colour", object.has_base_colour() ? ToGlm(object.base_colour()) : glm::vec3(0.8f));
+      scene_program_.Set("u_base_colour", ToGlm(object.base_colour()));
     }
     buffers[i]->Draw();
   }
@@ -129,7 +128,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   RenderedFrame frame;
   frame.image = target.ReadPixels();
   frame.gpu_ms = timer.Milliseconds();
-  frame.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  frame.cpu_ms = stopwatch.Milliseconds();
   return frame;
 }
 

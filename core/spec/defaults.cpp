@@ -44,6 +44,8 @@ constexpr float kDefaultOrthoHeight = 2.0f;
 constexpr float kDefaultNear = 0.01f;
 constexpr float kDefaultFar = 100.0f;
 constexpr float kDefaultLightIntensity = 1.0f;
+// Objects without a fabric are Lambertian in their base colour: a light grey.
+constexpr float kDefaultBaseColour = 0.8f;
 
 void SetGrey(v1::Rgb* rgb, float value) {
   rgb->set_r(value);
@@ -115,6 +117,7 @@ void ApplyLightDefaults(v1::Light& light) {
 
 void ApplyObjectDefaults(v1::SceneObject& object) {
   if (IsZero(object.transform().scale())) SetVec3(object.mutable_transform()->mutable_scale(), 1, 1, 1);
+  if (!object.has_base_colour()) SetGrey(object.mutable_base_colour(), kDefaultBaseColour);
   if (!object.has_fabric()) return;
   v1::FabricBinding& binding = *object.mutable_fabric();
   *binding.mutable_fabric() = WithDefaults(binding.fabric());

@@ -479,6 +479,13 @@ ValidationIssues Validate(const v1::PrecomputeSettings& settings, const std::str
   return ValidateWith(settings, root, CheckPrecompute);
 }
 
+ValidationIssues Validate(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
+  ValidationIssues issues = Validate(fabric);
+  const ValidationIssues settings_issues = Validate(settings);
+  issues.insert(issues.end(), settings_issues.begin(), settings_issues.end());
+  return issues;
+}
+
 ValidationIssues Validate(const v1::RenderSettings& settings, const std::string& root) {
   return ValidateWith(settings, root, CheckRender);
 }

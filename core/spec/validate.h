@@ -26,6 +26,8 @@ using ValidationIssues = std::vector<ValidationIssue>;
 // "scene.objects[0].fabric.fabric").
 ValidationIssues Validate(const v1::FabricSpec& fabric, const std::string& root = "fabric");
 ValidationIssues Validate(const v1::PrecomputeSettings& settings, const std::string& root = "precompute");
+// A fabric and the settings it is precomputed with: both specs' issues.
+ValidationIssues Validate(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 ValidationIssues Validate(const v1::RenderSettings& settings, const std::string& root = "render");
 ValidationIssues Validate(const v1::SceneSpec& scene, const std::string& root = "scene");
 
