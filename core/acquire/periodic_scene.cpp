@@ -4,10 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <string>
 
+#include "core/acquire/embree_mesh.h"
 #include "core/util/error.h"
 
 namespace loom {
@@ -17,13 +16,6 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // Slack around the geometry's z range, in tile units, so that rays starting just
 // above the top face or on a surface are inside the slab.
 constexpr float kSlabMargin = 1e-3f;
-
-void CheckDevice(RTCDevice device, const char* what) {
-  const RTCError error = rtcGetDeviceError(device);
-  if (error != RTC_ERROR_NONE) {
-    throw Error(ErrorCode::kInternal, std::string("Embree: ") + what + " failed (error " + std::to_string(error) + ")");
-  }
-}
 
 // The point's copy in the central tile: x and y modulo the period.
 glm::vec3 Wrap(glm::vec3 p) { return {p.x - std::floor(p.x), p.y - std::floor(p.y), p.z}; }
@@ -89,20 +81,9 @@ PeriodicScene::PeriodicScene(const TriangleMesh& mesh, float reach) : impl_(std:
     s.tile = rtcNewScene(s.device);
     rtcSetSceneFlags(s.tile, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(s.tile, RTC_BUILD_QUALITY_HIGH);
-    RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                                 RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                                 mesh.positions.size()));
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles));
-    CheckDevice(s.device, "allocating the mesh buffers");
-    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * 3 * sizeof(float));
-    std::memcpy(indices, mesh.indices.data(), triangles * 3 * sizeof(uint32_t));
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(s.tile, geometry);
-    rtcReleaseGeometry(geometry);
+    AttachTriangleMesh(s.device, s.tile, mesh, 0);
     rtcCommitScene(s.tile);
-    CheckDevice(s.device, "building the tile's BVH");
+    CheckEmbree(s.device, "building the tile's BVH");
 
     // Copy (i, j) holds the mesh translated by (i, j); it is needed when its
     // bounds [i + low.x, i + high.x] reach into [−reach, 1 + reach], and alike in y.
@@ -122,7 +103,7 @@ PeriodicScene::PeriodicScene(const TriangleMesh& mesh, float reach) : impl_(std:
     }
   }
   rtcCommitScene(s.world);
-  CheckDevice(s.device, "building the repeated scene");
+  CheckEmbree(s.device, "building the repeated scene");
 }
 
 PeriodicScene::~PeriodicScene() = default;

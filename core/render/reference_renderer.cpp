@@ -4,12 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
-#include <string>
 
+#include "core/acquire/embree_mesh.h"
 #include "core/acquire/indirect_light.h"
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
@@ -59,20 +58,10 @@ class MacroScene {
     for (size_t i = 0; i < meshes.size(); ++i) {
       const TriangleMesh& mesh = meshes[i].mesh;
       if (mesh.triangle_count() == 0) continue;
-      RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-          geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
-      auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-          geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), mesh.triangle_count()));
-      Check("allocating a mesh");
-      std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * 3 * sizeof(float));
-      std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
-      rtcCommitGeometry(geometry);
-      rtcAttachGeometryByID(scene_, geometry, static_cast<unsigned>(i));
-      rtcReleaseGeometry(geometry);
+      AttachTriangleMesh(device_, scene_, mesh, static_cast<unsigned>(i));
     }
     rtcCommitScene(scene_);
-    Check("building the scene's BVH");
+    CheckEmbree(device_, "building the scene's BVH");
   }
   ~MacroScene() {
     rtcReleaseScene(scene_);
@@ -110,13 +99,6 @@ class MacroScene {
     ray.tfar = tfar;
     ray.mask = ~0u;
   }
-  void Check(const char* what) const {
-    const RTCError error = rtcGetDeviceError(device_);
-    if (error != RTC_ERROR_NONE) {
-      throw Error(ErrorCode::kInternal, std::string("Embree: ") + what + " failed (error " + std::to_string(error) + ")");
-    }
-  }
-
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };
