@@ -70,13 +70,10 @@ PeriodicScene::PeriodicScene(const TriangleMesh& mesh, float reach) : impl_(std:
 
   const size_t triangles = mesh.triangle_count();
   if (triangles > 0) {
-    glm::vec3 low(kInfinity), high(-kInfinity);
-    for (const glm::vec3& p : mesh.positions) {
-      low = glm::min(low, p);
-      high = glm::max(high, p);
-    }
-    s.slab_low = low.z - kSlabMargin;
-    s.slab_high = high.z + kSlabMargin;
+    Bounds bounds;
+    bounds.Add(mesh.positions);
+    s.slab_low = bounds.low.z - kSlabMargin;
+    s.slab_high = bounds.high.z + kSlabMargin;
 
     s.tile = rtcNewScene(s.device);
     rtcSetSceneFlags(s.tile, RTC_SCENE_FLAG_ROBUST);
@@ -86,9 +83,9 @@ PeriodicScene::PeriodicScene(const TriangleMesh& mesh, float reach) : impl_(std:
     CheckEmbree(s.device, "building the tile's BVH");
 
     // Copy (i, j) holds the mesh translated by (i, j); it is needed when its
-    // bounds [i + low.x, i + high.x] reach into [−reach, 1 + reach], and alike in y.
-    const glm::ivec2 first(glm::ceil(-s.reach - glm::vec2(high)));
-    const glm::ivec2 last(glm::floor(1.0f + s.reach - glm::vec2(low)));
+    // bounds [i + bounds.low.x, i + bounds.high.x] reach into [−reach, 1 + reach], and alike in y.
+    const glm::ivec2 first(glm::ceil(-s.reach - glm::vec2(bounds.high)));
+    const glm::ivec2 last(glm::floor(1.0f + s.reach - glm::vec2(bounds.low)));
     s.grid = last - first + 1;
     for (int j = first.y; j <= last.y; ++j) {
       for (int i = first.x; i <= last.x; ++i) {

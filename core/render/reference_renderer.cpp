@@ -409,14 +409,8 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
 
   // Offsets of continued and shadow rays: relative to the scene's size, far above
   // float rounding of world coordinates and far below any shell thickness.
-  glm::vec3 low(kInfinity), high(-kInfinity);
-  for (const SceneMesh& mesh : meshes) {
-    for (const glm::vec3& p : mesh.mesh.positions) {
-      low = glm::min(low, p);
-      high = glm::max(high, p);
-    }
-  }
-  const float extent = meshes.empty() || !(high.x >= low.x) ? 1.0f : std::max(glm::length(high - low), 1e-3f);
+  const Bounds bounds = SceneGeometryBounds(meshes);
+  const float extent = bounds.empty() ? 1.0f : std::max(bounds.diagonal(), 1e-3f);
   const float epsilon = 1e-5f * extent;
 
   const MacroScene macro(meshes);

@@ -15,14 +15,8 @@ namespace {
 constexpr int kMaxLights = 16;  // as in lights.glsl and core/spec/limits.h
 
 SceneBounds BoundsOf(const std::vector<SceneMesh>& meshes) {
-  glm::vec3 low(INFINITY), high(-INFINITY);
-  for (const SceneMesh& mesh : meshes) {
-    for (const glm::vec3& p : mesh.mesh.positions) {
-      low = glm::min(low, p);
-      high = glm::max(high, p);
-    }
-  }
-  return {0.5f * (low + high), std::max(0.5f * glm::length(high - low), 1e-3f)};
+  const Bounds bounds = SceneGeometryBounds(meshes);
+  return {bounds.centre(), std::max(0.5f * bounds.diagonal(), 1e-3f)};
 }
 
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }

@@ -19,12 +19,9 @@ glm::vec3 AnyPerpendicular(const glm::vec3& n) {
 
 // Drops triangles with (relative) zero area; throws on indices out of range.
 size_t DropDegenerateTriangles(TriangleMesh& mesh, const char* source) {
-  glm::vec3 low(INFINITY), high(-INFINITY);
-  for (const glm::vec3& p : mesh.positions) {
-    low = glm::min(low, p);
-    high = glm::max(high, p);
-  }
-  const float diagonal = glm::length(high - low);
+  Bounds bounds;
+  bounds.Add(mesh.positions);
+  const float diagonal = bounds.diagonal();
   // Twice the area below this counts as zero: ~1e-12 of the bounding box's face.
   const float min_double_area = 1e-12f * diagonal * diagonal;
 

@@ -45,6 +45,12 @@ MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory) 
   };
 }
 
+Bounds SceneGeometryBounds(const std::vector<SceneMesh>& meshes) {
+  Bounds bounds;
+  for (const SceneMesh& mesh : meshes) bounds.Add(mesh.mesh.positions);
+  return bounds;
+}
+
 glm::mat4 ModelMatrix(const v1::Transform& transform) {
   const glm::vec3 degrees = ToGlm(transform.rotation_degrees());
   glm::mat4 model = glm::translate(glm::mat4(1.0f), ToGlm(transform.translation()));

@@ -31,6 +31,9 @@ MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory);
 // `scene` with defaults applied and validated. Errors name the object.
 std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve);
 
+// The bounding box of every mesh of a scene.
+Bounds SceneGeometryBounds(const std::vector<SceneMesh>& meshes);
+
 // Model matrix of a Transform: translate · rotate Z · rotate Y · rotate X · scale.
 glm::mat4 ModelMatrix(const v1::Transform& transform);
 

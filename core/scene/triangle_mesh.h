@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <limits>
 #include <vector>
 
 namespace loom {
@@ -16,6 +17,23 @@ struct TriangleMesh {
   std::vector<uint32_t> indices;  // three per triangle
 
   size_t triangle_count() const { return indices.size() / 3; }
+};
+
+// An axis-aligned bounding box; empty until a point is added.
+struct Bounds {
+  glm::vec3 low{std::numeric_limits<float>::infinity()};
+  glm::vec3 high{-std::numeric_limits<float>::infinity()};
+
+  void Add(const glm::vec3& p) {
+    low = glm::min(low, p);
+    high = glm::max(high, p);
+  }
+  void Add(const std::vector<glm::vec3>& points) {
+    for (const glm::vec3& p : points) Add(p);
+  }
+  bool empty() const { return !(high.x >= low.x); }
+  float diagonal() const { return empty() ? 0.0f : glm::length(high - low); }
+  glm::vec3 centre() const { return 0.5f * (low + high); }
 };
 
 }  // namespace loom
