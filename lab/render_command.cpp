@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "core/fit/fabric_asset.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/svbrdf_renderer.h"
@@ -19,9 +20,22 @@
 namespace loom::lab {
 namespace {
 
+// The fitted fabric for `binding`: read from `cache`/KEY when a previous run stored
+// it there, else precomputed (and stored when a cache directory is given).
+FittedFabric LoadOrPrecompute(const v1::FabricBinding& binding, const std::string& key,
+                              const std::filesystem::path& cache) {
+  const std::filesystem::path directory = cache.empty() ? std::filesystem::path() : cache / key;
+  if (!directory.empty() && std::filesystem::exists(directory / "manifest.json")) return ReadFabricAsset(directory);
+  ProgressBar bar("precompute " + key.substr(0, 8));
+  FittedFabric fit = PrecomputeFabric(binding.fabric(), binding.precompute(),
+                                      [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
+  if (!directory.empty()) WriteFabricAsset(fit, binding.precompute(), key, directory);
+  return fit;
+}
+
 // Renders with svbrdf; adds its figures to `figures`.
 Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
-                   nlohmann::json& figures) {
+                   const std::filesystem::path& cache, nlohmann::json& figures) {
   const Stopwatch stopwatch;
   std::map<std::string, FittedFabric> fits;  // one fit per distinct fabric
   std::vector<std::string> keys(meshes.size());
@@ -30,14 +44,10 @@ Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& mes
     if (!object.has_fabric()) continue;
     const v1::FabricBinding& binding = object.fabric();
     keys[i] = FabricKey(binding.fabric(), binding.precompute());
-    if (!fits.contains(keys[i])) {
-      ProgressBar bar("precompute " + keys[i].substr(0, 8));
-      fits.emplace(keys[i], PrecomputeFabric(binding.fabric(), binding.precompute(),
-                                             [&bar](double f, std::string_view stage) { bar.Update(f, stage); }));
-    }
+    if (!fits.contains(keys[i])) fits.emplace(keys[i], LoadOrPrecompute(binding, keys[i], cache));
   }
   figures["fabrics"] = fits.size();
-  figures["precompute_seconds"] = stopwatch.Seconds();
+  figures["precompute_seconds"] = stopwatch.Seconds();  // loading, where the cache had them
 
   const auto context = MakeContext(gl);
   SvbrdfRenderer renderer(*context);
@@ -72,7 +82,7 @@ Image RenderReference(const v1::SceneSpec& scene, const std::vector<SceneMesh>& 
 
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string scene, out, method;
+    std::string scene, out, method, fabric_cache;
     GlFlags gl;
   };
   auto options = std::make_shared<Options>();
@@ -81,6 +91,9 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--out,-o", options->out, "Output image")->required();
   command->add_option("--method", options->method, "Render method (default: the scene's render.method)")
       ->check(CLI::IsMember({"svbrdf", "reference"}));
+  command->add_option("--fabric-cache", options->fabric_cache,
+                      "Directory of fabric assets by cache key: svbrdf loads a fabric found there and stores "
+                      "one it had to precompute");
   AddGlFlags(command, &options->gl);
   return {command, [&flags, options] {
             FormatFromPath(options->out);  // reject a bad extension before any work
@@ -94,7 +107,7 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
             const bool reference = scene.render().method() == v1::RENDER_METHOD_REFERENCE;
             nlohmann::json figures = {{"out", options->out}, {"method", reference ? "reference" : "svbrdf"}};
             const Image image =
-                reference ? RenderReference(scene, meshes, figures) : RenderSvbrdf(scene, meshes, options->gl, figures);
+                reference ? RenderReference(scene, meshes, figures) : RenderSvbrdf(scene, meshes, options->gl, options->fabric_cache, figures);
             WriteImage(image, options->out);
             figures["width"] = image.width;
             figures["height"] = image.height;

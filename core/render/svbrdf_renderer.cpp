@@ -1,5 +1,6 @@
 #include "core/render/svbrdf_renderer.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/gl/framebuffer.h"
@@ -17,6 +18,23 @@ constexpr int kMaxLights = 16;  // as in lights.glsl and core/spec/limits.h
 SceneBounds BoundsOf(const std::vector<SceneMesh>& meshes) {
   const Bounds bounds = SceneGeometryBounds(meshes);
   return {bounds.centre(), std::max(0.5f * bounds.diagonal(), 1e-3f)};
+}
+
+// Mesh indices in drawing order: objects without a fabric, then cloth from the
+// farthest (bounding-box centre from the eye) to the nearest.
+std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::vector<const FabricTextures*>& fabrics,
+                              glm::vec3 eye) {
+  std::vector<size_t> opaque, cloth;
+  for (size_t i = 0; i < meshes.size(); ++i) (i < fabrics.size() && fabrics[i] ? cloth : opaque).push_back(i);
+  std::vector<float> distance(meshes.size());
+  for (size_t i : cloth) {
+    Bounds bounds;
+    bounds.Add(meshes[i].mesh.positions);
+    distance[i] = glm::length(bounds.centre() - eye);
+  }
+  std::stable_sort(cloth.begin(), cloth.end(), [&](size_t a, size_t b) { return distance[a] > distance[b]; });
+  opaque.insert(opaque.end(), cloth.begin(), cloth.end());
+  return opaque;
 }
 
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
@@ -101,22 +119,25 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   scene_program_.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
   scene_program_.Set("u_ambient", ToGlm(scene.ambient()));
   scene_program_.Set("u_level_mode", static_cast<int>(settings.level_mode()));
-  const bool alpha_to_coverage = settings.msaa_samples() > 1;
-  scene_program_.Set("u_alpha_to_coverage", alpha_to_coverage ? 1 : 0);
-  if (alpha_to_coverage) glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glBindTextureUnit(kShadowUnit, shadows_->texture());
-  for (size_t i = 0; i < meshes.size(); ++i) {
+  // Opaque objects first, then cloth back to front with premultiplied blending:
+  // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
+  // lies behind show through), exact for one layer of cloth over anything opaque.
+  // Only a cloth seen through its own holes (a fold) depends on triangle order.
+  for (const size_t i : DrawOrder(meshes, fabrics, camera.position)) {
     const v1::SceneObject& object = *meshes[i].object;
     const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
     scene_program_.Set("u_has_fabric", fabric != nullptr ? 1 : 0);
     if (fabric != nullptr) {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       fabric->Bind(scene_program_, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
     } else {
       scene_program_.Set("u_base_colour", ToGlm(object.base_colour()));
     }
     buffers[i]->Draw();
   }
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_BLEND);
   timer.Stop();
 
   RenderedFrame frame;

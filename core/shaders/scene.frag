@@ -2,7 +2,8 @@
 // Every scene object. Cloth carries a fitted fabric (fabric.glsl): per-fragment
 // evaluation of the fitted BRDF array, alpha for holes. Other objects are
 // Lambertian in their base colour. Both under the scene's lights with macro-scale
-// shadows and ambient light. Output: linear radiance; alpha drives coverage.
+// shadows and ambient light. Output: linear radiance, premultiplied by the
+// fabric's coverage alpha.
 
 #include "fabric.glsl"
 
@@ -18,11 +19,11 @@ uniform vec3 u_eye;
 uniform bool u_orthographic;
 uniform vec3 u_towards_viewer;
 uniform bool u_has_fabric;
-// With MSAA, alpha becomes sample coverage (GL_SAMPLE_ALPHA_TO_COVERAGE) and holes
-// show what lies behind them in any draw order; without it, alpha < ½ is a hole.
-uniform bool u_alpha_to_coverage;
 
 layout(location = 0) out vec4 o_radiance;
+
+// Below this a fabric fragment is a hole: less than one 8-bit step of coverage.
+const float kMinCoverage = 1.0 / 256.0;
 
 void main() {
   vec3 n = normalize(v_normal);
@@ -35,8 +36,10 @@ void main() {
     vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0);
     vec3 view = u_orthographic ? u_towards_viewer : normalize(u_eye - v_position);
     vec4 shaded = ShadeFabric(v_uv, v_position, n, t, b, view, u_ambient);
-    if (!u_alpha_to_coverage && shaded.a < 0.5) discard;
-    o_radiance = shaded;
+    // A hole writes no depth, so cloth drawn later behind it still shows.
+    if (shaded.a < kMinCoverage) discard;
+    // Premultiplied: blended over what lies behind (SvbrdfRenderer draws cloth last).
+    o_radiance = vec4(shaded.rgb * shaded.a, shaded.a);
     return;
   }
 
