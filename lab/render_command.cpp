@@ -7,52 +7,38 @@
 
 #include "core/precompute/fabric_precompute.h"
 #include "core/render/reference_renderer.h"
-#include "core/render/svbrdf_renderer.h"
+#include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
-#include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "core/util/progress_bar.h"
 #include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
-#include "lab/progress_bar.h"
 
 namespace loom::lab {
 namespace {
 
-// Renders with svbrdf; adds its figures to `figures`.
+// Renders with svbrdf, fitting each distinct fabric in this process first; adds
+// its figures to `figures`.
 Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
                    nlohmann::json& figures) {
   const Stopwatch stopwatch;
-  std::map<std::string, FittedFabric> fits;  // one fit per distinct fabric
-  std::vector<std::string> keys(meshes.size());
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    const v1::SceneObject& object = *meshes[i].object;
-    if (!object.has_fabric()) continue;
-    const v1::FabricBinding& binding = object.fabric();
-    keys[i] = FabricKey(binding.fabric(), binding.precompute());
-    if (!fits.contains(keys[i])) {
-      ProgressBar bar("precompute " + keys[i].substr(0, 8));
-      fits.emplace(keys[i], PrecomputeFabric(binding.fabric(), binding.precompute(),
-                                             [&bar](double f, std::string_view stage) { bar.Update(f, stage); }));
-    }
+  std::map<std::string, FittedFabric> fitted;
+  FittedFabrics fits;
+  for (const SceneFabric& fabric : SceneFabrics(scene)) {
+    ProgressBar bar("precompute " + fabric.key.substr(0, 8));
+    const FittedFabric& fit =
+        fitted.emplace(fabric.key, PrecomputeFabric(fabric.fabric, fabric.settings,
+                                                    [&bar](double f, std::string_view stage) { bar.Update(f, stage); }))
+            .first->second;
+    fits[fabric.key] = &fit;
   }
   figures["fabrics"] = fits.size();
   figures["precompute_seconds"] = stopwatch.Seconds();
 
   const auto context = MakeContext(gl);
   SvbrdfRenderer renderer(*context);
-  std::map<std::string, std::unique_ptr<FabricTextures>> textures;
-  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    if (keys[i].empty()) continue;
-    auto& uploaded = textures[keys[i]];
-    if (!uploaded) {
-      uploaded = std::make_unique<FabricTextures>(FabricTextureData::FromFit(fits.at(keys[i])),
-                                                  meshes[i].object->fabric().precompute().half_float());
-    }
-    fabrics[i] = uploaded.get();
-  }
-  RenderedFrame frame = renderer.Render(scene, meshes, fabrics);
+  RenderedFrame frame = RenderScene(renderer, scene, meshes, fits);
   figures["frame_ms"] = frame.cpu_ms;
   figures["gpu_ms"] = frame.gpu_ms;
   figures["device"] = DeviceJson(context->info());
