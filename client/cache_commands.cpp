@@ -85,7 +85,14 @@ std::vector<ClientCommand> AddCacheCommands(CLI::App& app, ClientFlags& flags) {
                       }});
 
   auto* info = app.add_subcommand("server-info", "The server's version, health and queue depth");
-  commands.push_back({info, [&flags] {
+  auto wait_seconds = std::make_shared<double>(0.0);
+  info->add_option("--wait", *wait_seconds, "Wait up to this many seconds for the server to come up")
+      ->check(CLI::Range(0.0, 600.0));
+  commands.push_back({info, [&flags, wait_seconds] {
+                        if (*wait_seconds > 0) {
+                          flags.Connect().WaitForServer(
+                              std::chrono::milliseconds(static_cast<int64_t>(*wait_seconds * 1000)));
+                        }
                         const v1::ServerInfo info = flags.Connect().ServerInfo();
                         if (flags.json) {
                           PrintJson(info);

@@ -30,7 +30,14 @@ bool IsTerminal(v1::JobState state) {
   return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
 }
 
-JobClient::JobClient(std::shared_ptr<grpc::Channel> channel) : stub_(v1::LoomService::NewStub(std::move(channel))) {}
+JobClient::JobClient(std::shared_ptr<grpc::Channel> channel)
+    : channel_(std::move(channel)), stub_(v1::LoomService::NewStub(channel_)) {}
+
+void JobClient::WaitForServer(std::chrono::milliseconds timeout) {
+  if (!channel_->WaitForConnected(rpc::DeadlineIn(timeout))) {
+    throw Error(ErrorCode::kUnavailable, "no server answered within " + std::to_string(timeout.count()) + " ms");
+  }
+}
 
 v1::SubmitJobResponse JobClient::Submit(const v1::SubmitJobRequest& request) {
   return Call<v1::SubmitJobRequest, v1::SubmitJobResponse>(*stub_, &v1::LoomService::Stub::SubmitJob, request,

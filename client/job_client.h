@@ -5,6 +5,7 @@
 
 #include <grpcpp/channel.h>
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -43,8 +44,12 @@ class JobClient {
   std::string Download(const std::string& sha256);
 
   v1::ServerInfo ServerInfo();
+  // Waits until the channel connects (a server starting up), at most `timeout`;
+  // Error(kUnavailable) if it does not.
+  void WaitForServer(std::chrono::milliseconds timeout);
 
  private:
+  std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::LoomService::Stub> stub_;
 };
 

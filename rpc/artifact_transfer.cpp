@@ -65,35 +65,6 @@ void VerifyDownload(const Download& download, std::string_view sha256) {
   CheckContent(download.artifact, download.bytes, "downloaded artifact");
 }
 
-ReceivedUpload ReceiveUpload(grpc::ServerReaderInterface<v1::UploadArtifactRequest>& reader, uint64_t max_bytes) {
-  ReceivedUpload upload;
-  v1::UploadArtifactRequest message;
-  if (!reader.Read(&message) || !message.has_header()) {
-    throw Error(ErrorCode::kInvalidArgument, "UploadArtifact: the first message must be the header");
-  }
-  upload.header = message.header();
-  const v1::ArtifactRef& artifact = upload.header.artifact();
-  if (artifact.size() > max_bytes) {
-    throw Error(ErrorCode::kInvalidArgument, "UploadArtifact '" + artifact.name() + "': size " +
-                                                 std::to_string(artifact.size()) + " exceeds " +
-                                                 std::to_string(max_bytes) + " bytes");
-  }
-  upload.bytes.reserve(artifact.size());
-  while (reader.Read(&message)) {
-    if (!message.has_chunk() && message.has_header()) {
-      throw Error(ErrorCode::kInvalidArgument, "UploadArtifact: a second header");
-    }
-    if (upload.bytes.size() + message.chunk().size() > artifact.size()) {
-      throw Error(ErrorCode::kInvalidArgument, "UploadArtifact '" + artifact.name() +
-                                                   "': more bytes than the header's size " +
-                                                   std::to_string(artifact.size()));
-    }
-    upload.bytes += message.chunk();
-  }
-  CheckContent(artifact, upload.bytes, "uploaded artifact");
-  return upload;
-}
-
 void SendArtifact(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact,
                   std::string_view bytes) {
   v1::ArtifactChunk message;

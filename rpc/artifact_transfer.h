@@ -1,9 +1,10 @@
 #pragma once
-// Artifacts over gRPC streams, both directions and both ends: a header (name, size,
-// SHA-256) then kChunkBytes pieces. The receiver hashes what arrives and refuses a
-// transfer whose size or hash differs from the header, so a truncated or corrupted
-// file is never stored or used. Client and worker uploads share one message type,
-// so one template serves both stubs.
+// Artifacts over gRPC streams: a header (name, size, SHA-256) then kChunkBytes
+// pieces. The receiver hashes what arrives and refuses a transfer whose size or
+// hash differs from the header, so a truncated or corrupted file is never stored or
+// used (the server's receiving side streams into its artifact store:
+// server/artifact_upload.h). Client and worker stubs share the message types, so
+// one template serves both.
 
 #include <grpcpp/client_context.h>
 #include <grpcpp/support/sync_stream.h>
@@ -32,15 +33,6 @@ struct Download {
 };
 Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader);
 void VerifyDownload(const Download& download, std::string_view sha256);
-
-// Server side: the header and bytes of an upload. Error(kInvalidArgument) when the
-// header is missing or not first, the bytes exceed `max_bytes`, or size or hash
-// differ from the header.
-struct ReceivedUpload {
-  v1::UploadArtifactRequest::Header header;
-  std::string bytes;
-};
-ReceivedUpload ReceiveUpload(grpc::ServerReaderInterface<v1::UploadArtifactRequest>& reader, uint64_t max_bytes);
 
 // Server side of a download.
 void SendArtifact(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact,

@@ -2,7 +2,6 @@
 
 #include <grpcpp/create_channel.h>
 #include <grpcpp/security/credentials.h>
-#include <grpcpp/support/client_interceptor.h>
 
 #include "core/util/file_io.h"
 #include "rpc/auth.h"
@@ -39,6 +38,13 @@ class BearerTokenInterceptorFactory : public grpc::experimental::ClientIntercept
 
 }  // namespace
 
+std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> TokenInterceptors(
+    const std::string& token) {
+  std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> interceptors;
+  if (!token.empty()) interceptors.push_back(std::make_unique<BearerTokenInterceptorFactory>(token));
+  return interceptors;
+}
+
 std::shared_ptr<grpc::Channel> MakeChannel(const ChannelOptions& options) {
   std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::InsecureChannelCredentials();
   if (!options.tls_ca_file.empty()) {
@@ -49,10 +55,8 @@ std::shared_ptr<grpc::Channel> MakeChannel(const ChannelOptions& options) {
   grpc::ChannelArguments arguments;
   arguments.SetMaxReceiveMessageSize(kMaxMessageBytes);
   arguments.SetMaxSendMessageSize(kMaxMessageBytes);
-  std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> interceptors;
-  if (!options.token.empty()) interceptors.push_back(std::make_unique<BearerTokenInterceptorFactory>(options.token));
   return grpc::experimental::CreateCustomChannelWithInterceptors(options.address, credentials, arguments,
-                                                                 std::move(interceptors));
+                                                                 TokenInterceptors(options.token));
 }
 
 std::chrono::system_clock::time_point DeadlineIn(std::chrono::milliseconds timeout) {

@@ -4,10 +4,12 @@
 // certificate is given, with Loom's message-size cap.
 
 #include <grpcpp/channel.h>
+#include <grpcpp/support/client_interceptor.h>
 
 #include <chrono>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace loom::rpc {
 
@@ -26,6 +28,11 @@ struct ChannelOptions {
 };
 
 std::shared_ptr<grpc::Channel> MakeChannel(const ChannelOptions& options);
+
+// The interceptor that puts `token` on every call (none for an empty token), for
+// channels made elsewhere (the server's in-process channel for its local workers).
+std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> TokenInterceptors(
+    const std::string& token);
 
 // A deadline `timeout` from now, for ClientContext::set_deadline.
 std::chrono::system_clock::time_point DeadlineIn(std::chrono::milliseconds timeout);

@@ -319,6 +319,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
     failure = std::string("internal error: ") + error.what();
   }
   spdlog::warn("{}: job {} failed: {}", options_.label, job.id(), failure);
+  lease.Log("failed: " + failure);
   v1::FailJobRequest fail;
   fail.set_worker_id(worker_id_);
   fail.set_job_id(job.id());
