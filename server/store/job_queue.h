@@ -194,18 +194,18 @@ class JobQueue {
   struct Row;
   class Txn;
 
-  // All with mu_ held.
+  // With mu_ held (and, for changes, inside a Txn).
   std::optional<Row> FindRow(const std::string& id) const;
   Row RequireRow(const std::string& id) const;
   Row RequireLease(const std::string& id, uint64_t token) const;
   v1::Job ToJob(const Row& row) const;
   v1::Job InsertJob(const v1::Job& job, int64_t now_ms);
+  std::optional<JobLease> LeaseLocked(const std::string& worker_id);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
   void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
-  void FailDependants(const std::string& id, const std::string& reason, int64_t now_ms);
+  void FailDependants(const Row& dependency, const std::string& reason, int64_t now_ms);
   void WriteLog(int64_t seq, const std::string& line);
-  void Touch(int64_t seq);
-  std::optional<JobLease> LeaseLocked(const std::string& worker_id);
+  void Touch(int64_t seq);  // bumps version_ and the job's version
 
   const Clock& clock_;
   const JobQueueOptions options_;
