@@ -1,8 +1,6 @@
 #pragma once
 // A loom-server in the test process on a free loopback port, with its data in a
-// fresh temporary directory, and the small specs the service tests submit: a
-// precompute small enough to run in a second or two on llvmpipe, and a small scene
-// that uses it.
+// fresh temporary directory.
 
 #include <gtest/gtest.h>
 
@@ -13,19 +11,9 @@
 #include "client/job_client.h"
 #include "loom/v1/service.pb.h"
 #include "server/loom_server.h"
+#include "tests/server/tiny_specs.h"
 
 namespace loom::server {
-
-// 8×8 texels, 16 views × 16 lights, 1 lobe, no indirect light, 1 sub-sample.
-v1::PrecomputeSettings TinySettings();
-// The standard knit.
-v1::FabricSpec KnitFabric();
-// A knit plane seen at 45°, one shadowing light, `width`×`height` pixels, with
-// TinySettings; EXR output.
-v1::SceneSpec TinyScene(uint32_t width = 64, uint32_t height = 48);
-
-v1::SubmitJobRequest PrecomputeRequest();
-v1::SubmitJobRequest RenderRequest(const v1::SceneSpec& scene);
 
 class ServiceTest : public ::testing::Test {
  protected:

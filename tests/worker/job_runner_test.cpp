@@ -9,7 +9,7 @@
 #include "core/spec/fabric_key.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
-#include "tests/server/service_fixture.h"
+#include "tests/server/tiny_specs.h"
 #include "worker/job_runner.h"
 
 namespace loom::worker {
