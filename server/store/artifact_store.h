@@ -120,11 +120,16 @@ class ArtifactStore {
   friend class FabricCache;  // keeps its index in cache.db, changed with its pins in one transaction
 
   std::filesystem::path PathOf(std::string_view hash) const;
+  // The verified bytes; a missing or corrupt file is forgotten and kNotFound thrown.
+  // Takes mu_ itself, but reads and hashes without it.
+  std::string Load(const std::string& hash);
+
   // With mu_ held.
   void AddCommitted(const std::filesystem::path& temp_path, const std::string& hash, uint64_t size);
   bool HasLocked(const std::string& hash);
+  uint64_t TotalBytesLocked();
   void TouchLocked(const std::string& hash);
-  void ForgetLocked(const std::string& hash);
+  void ForgetLocked(const std::string& hash);  // drops the row and the file
   void RemoveIfUnpinnedLocked(const std::string& hash);
   void EvictLocked(std::vector<std::string>& evicted);
 

@@ -44,13 +44,14 @@ struct FabricEntry {
 
 class FabricCache {
  public:
-  // `artifacts` and `clock` must outlive the cache. Drops artifact pins left by a
-  // fabric that is no longer indexed.
+  // `artifacts` and `clock` must outlive the cache.
   FabricCache(ArtifactStore& artifacts, const Clock& clock);
 
   // Indexes (or replaces, keeping `pinned`) the fabric `key`. Every file must
-  // already be in the artifact store (kNotFound naming the file otherwise); names
-  // must be non-empty, unique and without '/' (kInvalidArgument). Returns the entry.
+  // already be in the artifact store (kNotFound naming the file otherwise); there
+  // must be at least one, with names non-empty, unique and without '/'
+  // (kInvalidArgument). A replaced entry's old files become ordinary artifacts.
+  // Returns the entry.
   FabricEntry Put(const std::string& key, const std::vector<FabricFile>& files,
                   const std::string& manifest_json);
 
