@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 
 #include "core/spec/spec_json.h"
@@ -13,14 +15,14 @@
 namespace loom::server {
 namespace {
 
-struct Run {
+struct CliRun {
   int exit_code;
   std::string output;  // stdout and stderr
 };
 
 class LoomCliTest : public ServiceTest {
  protected:
-  Run Loom(const std::string& arguments, const std::string& server = "") {
+  CliRun Loom(const std::string& arguments, const std::string& server = "") {
     const auto output_path = data_dir_ / "cli-output.txt";
     const std::string command = std::string(LOOM_CLI) + " --server " +
                                 (server.empty() ? server_->address() : server) + " " + arguments + " > " +
@@ -38,7 +40,7 @@ TEST_F(LoomCliTest, UnreachableServerIsExitCode4) {
   ServerOptions options;
   options.local_workers = 0;
   StartServer(options);
-  const Run run = Loom("server-info", "127.0.0.1:1");
+  const CliRun run = Loom("server-info", "127.0.0.1:1");
   EXPECT_EQ(run.exit_code, 4) << run.output;
   EXPECT_NE(run.output.find("GetServerInfo"), std::string::npos) << run.output;
 }
@@ -48,7 +50,7 @@ TEST_F(LoomCliTest, BadSpecIsExitCode2NamingTheFieldAndUnknownJobIs3) {
   options.local_workers = 0;
   StartServer(options);
   const auto scene = Write("scene.json", R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "colour": 1}]})");
-  Run run = Loom("render " + scene.string() + " -o " + (data_dir_ / "f.png").string());
+  CliRun run = Loom("render " + scene.string() + " -o " + (data_dir_ / "f.png").string());
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("scene.objects[0].colour: unknown field"), std::string::npos) << run.output;
 
@@ -62,12 +64,12 @@ TEST_F(LoomCliTest, CancelledJobIsExitCode6) {
   StartServer(options);
   const auto fabric = Write("fabric.json", R"({"knit": {}})");
   const auto settings = Write("settings.json", SpecToJson(TinySettings()));
-  const Run submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
+  const CliRun submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
                              " --no-wait");
   ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
   const std::string id = nlohmann::json::parse(submitted.output)["job"]["id"];
   EXPECT_EQ(Loom("jobs cancel " + id).exit_code, 0);
-  const Run watched = Loom("jobs watch " + id);
+  const CliRun watched = Loom("jobs watch " + id);
   EXPECT_EQ(watched.exit_code, 6) << watched.output;
   EXPECT_NE(watched.output.find("cancelled"), std::string::npos) << watched.output;
 }
@@ -83,12 +85,12 @@ TEST_F(LoomCliTest, RenderUploadsTheObjMeshAndWritesTheFrame) {
   scene.mutable_render()->clear_format();
   const auto scene_path = Write("scene.json", SpecToJson(scene));
   const auto frame = data_dir_ / "out" / "frame.png";
-  const Run run = Loom("render " + scene_path.string() + " -o " + frame.string());
+  const CliRun run = Loom("render " + scene_path.string() + " -o " + frame.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("uploaded 1 mesh"), std::string::npos) << run.output;
   EXPECT_TRUE(std::filesystem::exists(frame));
   // The second time the server has the mesh: nothing is uploaded.
-  const Run again = Loom("render " + scene_path.string() + " -o " + frame.string());
+  const CliRun again = Loom("render " + scene_path.string() + " -o " + frame.string());
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(again.output.find("uploaded"), std::string::npos) << again.output;
 }

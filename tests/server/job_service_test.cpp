@@ -30,11 +30,15 @@ v1::Job WaitUntilEnded(client::JobClient& client, const std::string& id) {
   return client.Watch(id, [](const v1::JobEvent&) {});
 }
 
-std::unique_ptr<v1::LoomService::Stub> RawStub(const LoomServer& server, const std::string& token) {
+rpc::ChannelOptions Channel(const LoomServer& server, const std::string& token) {
   rpc::ChannelOptions channel;
   channel.address = server.address();
   channel.token = token;
-  return v1::LoomService::NewStub(rpc::MakeChannel(channel));
+  return channel;
+}
+
+std::unique_ptr<v1::LoomService::Stub> RawStub(const LoomServer& server, const std::string& token) {
+  return v1::LoomService::NewStub(rpc::MakeChannel(Channel(server, token)));
 }
 
 grpc::Status RawSubmit(v1::LoomService::Stub& stub, const v1::SubmitJobRequest& request) {
@@ -121,8 +125,7 @@ TEST_F(ServiceTest, MissingOrWrongTokenIsUnauthenticatedAndStoresNothing) {
     EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "token '" << token << "'";
   }
   // Worker calls with the client token are refused as well.
-  rpc::ChannelOptions channel{.address = server_->address(), .token = "client-secret"};
-  auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(channel));
+  auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(*server_, "client-secret")));
   grpc::ClientContext context;
   v1::LeaseJobRequest lease;
   lease.set_worker_id("w");
@@ -146,7 +149,8 @@ TEST_F(ServiceTest, BadRequestsAreInvalidArgumentNamingTheFieldAndStoreNothing) 
   };
 
   v1::SubmitJobRequest unknown = RenderRequest(TinyScene());
-  unknown.mutable_render()->mutable_scene()->mutable_camera()->mutable_unknown_fields()->AddVarint(99, 1);
+  v1::Camera& camera = *unknown.mutable_render()->mutable_scene()->mutable_camera();
+  camera.GetReflection()->MutableUnknownFields(&camera)->AddVarint(99, 1);
   expect_invalid(unknown, "request.render.scene.camera: unknown field number 99");
 
   expect_invalid(RenderRequest(TinyScene(10000, 48)), "scene.render.width");
@@ -204,7 +208,7 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   // A standalone worker over TCP runs all 21 jobs.
   worker::WorkerOptions worker_options;
   worker_options.lease_wait = std::chrono::milliseconds(500);
-  worker::WorkerLoop worker(rpc::MakeChannel({.address = server_->address()}), worker_options);
+  worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker_options);
   std::thread thread([&worker] { worker.Run(); });
   for (const std::string& id : renders) EXPECT_EQ(WaitUntilEnded(client, id).state(), v1::JOB_STATE_SUCCEEDED);
   worker.Stop();

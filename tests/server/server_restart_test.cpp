@@ -23,6 +23,12 @@ namespace {
 
 using namespace std::chrono_literals;
 
+rpc::ChannelOptions Channel(const std::string& address) {
+  rpc::ChannelOptions channel;
+  channel.address = address;
+  return channel;
+}
+
 // A port the kernel says is free now.
 int FreePort() {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
@@ -45,7 +51,7 @@ class ServerProcess {
     for (std::string& argument : arguments) argv.push_back(argument.data());
     argv.push_back(nullptr);
     EXPECT_EQ(posix_spawn(&pid_, LOOM_SERVER, nullptr, nullptr, argv.data(), environ), 0);
-    client_ = std::make_unique<client::JobClient>(rpc::MakeChannel({.address = address_}));
+    client_ = std::make_unique<client::JobClient>(rpc::MakeChannel(Channel(address_)));
     client_->WaitForServer(60s);
   }
   ~ServerProcess() {
@@ -81,7 +87,7 @@ TEST(ServerRestartTest, KilledWithJobsQueuedAndLeasedLosesNothing) {
       ids.insert(server.client().Submit(request).job().id());
     }
     // A worker leases one job, then the server dies under it.
-    auto worker = v1::WorkerService::NewStub(rpc::MakeChannel({.address = server.address()}));
+    auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(server.address())));
     grpc::ClientContext context;
     v1::LeaseJobRequest lease;
     lease.set_worker_id("doomed-worker");
