@@ -1,53 +1,49 @@
-// loom: the client CLI. Today it checks spec files exactly as the server will;
-// submitting jobs and querying the fabric cache arrive with the job service.
+// loom: the client CLI. Submits precompute and render jobs to loom-server and
+// waits for them, lists, watches and cancels jobs, queries and downloads the fabric
+// cache, and checks spec files locally exactly as the server will.
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
-#include <cstdio>
-#include <iostream>
+#include <cstdlib>
+#include <vector>
 
-#include "core/spec/spec_check.h"
+#include "client/client_command.h"
 #include "core/util/cli_main.h"
 #include "core/version.h"
 
-namespace loom {
+namespace loom::client {
 namespace {
 
 int Main(int argc, char** argv) {
   CLI::App app{"loom " + std::string(kVersion) + ": submit and watch Loom render jobs"};
   app.set_version_flag("--version", kVersion);
-  bool json = false;
-  app.add_flag("--json", json, "Machine-readable output (one JSON object)");
+  app.footer(
+      "The token is read from LOOM_TOKEN (the server's --client-token-file).\n"
+      "Exit codes: 0 ok, 1 internal error, 2 bad input (command line, spec), 3 not found (file, job,\n"
+      "fabric), 4 server unreachable, 5 refused (bad token, wrong state), 6 the job failed or was cancelled.");
+  ClientFlags flags;
+  app.add_flag("--json", flags.json, "Machine-readable output: one JSON object (JSON lines while waiting)");
+  app.add_option("--server", flags.channel.address, "Server address")->capture_default_str();
+  app.add_option("--tls-ca", flags.channel.tls_ca_file, "PEM CA certificate: connect with TLS, verifying the server")
+      ->check(CLI::ExistingFile);
 
-  auto* spec = app.add_subcommand("spec", "Work with spec files");
-  spec->require_subcommand(1);
-  std::string kind, path;
-  bool show_normalized = false;
-  auto* check = spec->add_subcommand("check", "Check a spec file as the server would (strict parse + every limit)");
-  check->add_option("kind", kind, "fabric, precompute or scene")->required();
-  check->add_option("file", path, "Spec file (JSON)")->required();
-  check->add_flag("--normalized", show_normalized, "Print the spec with every default made explicit");
-
+  std::vector<ClientCommand> commands;
+  for (auto add : {AddSpecCommands, AddJobCommands, AddCacheCommands}) {
+    for (ClientCommand& command : add(app, flags)) commands.push_back(std::move(command));
+  }
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
   RequireSubcommand(app);
-
-  const SpecCheck result = CheckSpecFile(ParseSpecKind(kind), path);
-  if (json) {
-    nlohmann::json out = SpecCheckJson(path, result);
-    if (show_normalized) out["normalized"] = nlohmann::json::parse(result.normalized_json);
-    std::cout << out.dump() << std::endl;
-  } else {
-    if (result.issues.empty()) std::printf("%s: valid %s spec\n", path.c_str(), kind.c_str());
-    else std::fprintf(stderr, "%s", FormatIssues(result.issues).c_str());
-    if (show_normalized) std::printf("%s\n", result.normalized_json.c_str());
+  for (const ClientCommand& command : commands) {
+    if (command.command->parsed()) return command.run();
   }
-  return result.issues.empty() ? 0 : ExitCodeFor(ErrorCode::kInvalidArgument);
+  // A group (fabric, jobs, cache, spec) without its subcommand.
+  for (const CLI::App* group : app.get_subcommands()) RequireSubcommand(*group);
+  return ExitCodeFor(ErrorCode::kInternal);
 }
 
 }  // namespace
-}  // namespace loom
+}  // namespace loom::client
 
 int main(int argc, char** argv) {
-  return loom::RunMain("loom", [&] { return loom::Main(argc, argv); });
+  return loom::RunMain("loom", [&] { return loom::client::Main(argc, argv); });
 }

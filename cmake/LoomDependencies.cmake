@@ -2,7 +2,9 @@
 
 find_package(Threads REQUIRED)
 find_package(Protobuf REQUIRED)
+find_package(gRPC CONFIG REQUIRED)       # the job service (proto/, rpc/, server/, worker/, client/)
 find_package(OpenSSL REQUIRED)          # SHA-256 for cache keys and artifact checksums
+find_package(SQLite3 REQUIRED)          # the server's job queue and cache index (WAL)
 find_package(spdlog REQUIRED)
 find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache keys
 find_package(CLI11 REQUIRED)

@@ -10,9 +10,9 @@
 #include "core/scene/obj_writer.h"
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
+#include "core/util/progress_bar.h"
 #include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
-#include "lab/progress_bar.h"
 
 namespace loom::lab {
 namespace {

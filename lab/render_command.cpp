@@ -8,61 +8,45 @@
 #include "core/fit/fabric_asset.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/render/reference_renderer.h"
-#include "core/render/svbrdf_renderer.h"
+#include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
-#include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "core/util/progress_bar.h"
 #include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
-#include "lab/progress_bar.h"
 
 namespace loom::lab {
 namespace {
 
-// The fitted fabric for `binding`: read from `cache`/KEY when a previous run stored
-// it there, else precomputed (and stored when a cache directory is given).
-FittedFabric LoadOrPrecompute(const v1::FabricBinding& binding, const std::string& key,
-                              const std::filesystem::path& cache) {
-  const std::filesystem::path directory = cache.empty() ? std::filesystem::path() : cache / key;
+// The fitted fabric `fabric`: read from `cache`/KEY when a previous run stored it
+// there, else precomputed (and stored when a cache directory is given).
+FittedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::path& cache) {
+  const std::filesystem::path directory = cache.empty() ? std::filesystem::path() : cache / fabric.key;
   if (!directory.empty() && std::filesystem::exists(directory / "manifest.json")) return ReadFabricAsset(directory);
-  ProgressBar bar("precompute " + key.substr(0, 8));
-  FittedFabric fit = PrecomputeFabric(binding.fabric(), binding.precompute(),
+  ProgressBar bar("precompute " + fabric.key.substr(0, 8));
+  FittedFabric fit = PrecomputeFabric(fabric.fabric, fabric.settings,
                                       [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
-  if (!directory.empty()) WriteFabricAsset(fit, binding.precompute(), key, directory);
+  if (!directory.empty()) WriteFabricAsset(fit, fabric.settings, fabric.key, directory);
   return fit;
 }
 
-// Renders with svbrdf; adds its figures to `figures`.
+// Renders with svbrdf, fitting each distinct fabric in this process first (or
+// loading it from `cache`); adds its figures to `figures`.
 Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
                    const std::filesystem::path& cache, nlohmann::json& figures) {
   const Stopwatch stopwatch;
-  std::map<std::string, FittedFabric> fits;  // one fit per distinct fabric
-  std::vector<std::string> keys(meshes.size());
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    const v1::SceneObject& object = *meshes[i].object;
-    if (!object.has_fabric()) continue;
-    const v1::FabricBinding& binding = object.fabric();
-    keys[i] = FabricKey(binding.fabric(), binding.precompute());
-    if (!fits.contains(keys[i])) fits.emplace(keys[i], LoadOrPrecompute(binding, keys[i], cache));
+  std::map<std::string, FittedFabric> fitted;
+  FittedFabrics fits;
+  for (const SceneFabric& fabric : SceneFabrics(scene)) {
+    fits[fabric.key] = &fitted.emplace(fabric.key, LoadOrPrecompute(fabric, cache)).first->second;
   }
   figures["fabrics"] = fits.size();
   figures["precompute_seconds"] = stopwatch.Seconds();  // loading, where the cache had them
 
   const auto context = MakeContext(gl);
   SvbrdfRenderer renderer(*context);
-  std::map<std::string, std::unique_ptr<FabricTextures>> textures;
-  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    if (keys[i].empty()) continue;
-    auto& uploaded = textures[keys[i]];
-    if (!uploaded) {
-      uploaded = std::make_unique<FabricTextures>(FabricTextureData::FromFit(fits.at(keys[i])),
-                                                  meshes[i].object->fabric().precompute().half_float());
-    }
-    fabrics[i] = uploaded.get();
-  }
-  RenderedFrame frame = renderer.Render(scene, meshes, fabrics);
+  RenderedFrame frame = RenderScene(renderer, scene, meshes, fits);
   figures["frame_ms"] = frame.cpu_ms;
   figures["gpu_ms"] = frame.gpu_ms;
   figures["device"] = DeviceJson(context->info());

@@ -1,16 +1,33 @@
 #!/usr/bin/env bash
-# Loom's main job, end to end on this machine: installs what is missing, builds,
-# then precomputes the example knit fabric (geometry → radiance acquisition →
-# Lafortune + lookup-table fit, all mip levels) and renders the example scene with
-# it on the GPU through headless EGL (llvmpipe without a GPU, the NVIDIA GPU with
-# one), writing out/knit_plane.png. Until the job service lands this runs in one
-# process through loom-lab; it becomes server + local worker + client then.
+# Loom's main job, end to end on this machine, through the job service: installs
+# what is missing, builds, starts loom-server with one local worker on loopback
+# (data in a temporary directory), precomputes the example knit fabric
+# (examples/fabrics/stockinette.json: geometry → radiance acquisition → Lafortune +
+# lookup-table fit, every mip level) with `loom fabric precompute`, renders the
+# example scene with it (`loom render`: the fabric is a cache hit, the frame is
+# rendered by the worker on headless EGL: llvmpipe without a GPU, the GPU with one)
+# into out/knit_plane.png, and stops the server.
+#
+# Environment: BUILD_DIR (default build), OUT (default out), LOOM_PORT (default 7450).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 bash scripts/setup.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT=${OUT:-out}
+ADDRESS=127.0.0.1:${LOOM_PORT:-7450}
 mkdir -p "$OUT"
-"$BUILD_DIR/lab/loom-lab" info
-"$BUILD_DIR/lab/loom-lab" render examples/scenes/knit_plane.json --out "$OUT/knit_plane.png"
+DATA=$(mktemp -d -t loom-main.XXXXXX)
+
+"$BUILD_DIR/server/loom-server" --data "$DATA" --listen "$ADDRESS" --local-workers 1 &
+SERVER=$!
+stop_server() {
+  kill -TERM "$SERVER" 2>/dev/null && wait "$SERVER" || true
+  rm -rf "$DATA"
+}
+trap stop_server EXIT
+
+loom() { "$BUILD_DIR/client/loom" --server "$ADDRESS" "$@"; }
+loom server-info --wait 60
+loom fabric precompute examples/fabrics/stockinette.json
+loom render examples/scenes/knit_plane.json -o "$OUT/knit_plane.png"

@@ -1,21 +1,84 @@
-// loom-server: the job service (queue, fabric cache, artifacts). This build has the
-// command line only; the gRPC service, its SQLite queue and `--local-workers` arrive
-// with the job-service work (DESIGN.md "Server, worker, client").
+// loom-server: the job service (queue, fabric cache, artifacts; server/loom_server.h)
+// with N in-process render workers. Runs until SIGINT or SIGTERM, then stops
+// gracefully; a second signal exits at once.
 
 #include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <condition_variable>
+#include <mutex>
 
 #include "core/util/cli_main.h"
+#include "core/util/termination_signals.h"
 #include "core/version.h"
+#include "rpc/auth.h"
+#include "rpc/channel.h"
+#include "server/loom_server.h"
 
 namespace loom {
 namespace {
 
 int Main(int argc, char** argv) {
+  TerminationSignals signals;  // before any thread starts
   CLI::App app{"loom-server " + std::string(kVersion) + ": Loom's job queue, fabric cache and artifact store"};
   app.set_version_flag("--version", kVersion);
+  app.footer(
+      "Without --client-token-file/--worker-token-file the server accepts every call and therefore\n"
+      "listens on loopback addresses only. With them, clients send the client token (LOOM_TOKEN) and\n"
+      "workers the worker token (loom-worker --token-file) as a bearer token on every call.");
+  server::ServerOptions options;
+  options.listen = rpc::kDefaultServerAddress;
+  std::string data, client_token_file, worker_token_file;
+  bool software = false;
+  app.add_option("--data", data, "Data directory: job queue, artifacts, fabric cache (created if missing)")
+      ->required();
+  app.add_option("--listen", options.listen, "Address to serve on (host:port; port 0 picks one)")
+      ->capture_default_str();
+  app.add_option("--local-workers", options.local_workers, "In-process render workers (0: remote workers only)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  app.add_option("--cache-bytes", options.cache_bytes,
+                 "Artifact and fabric cache budget in bytes, least recently used evicted first (0: no limit)")
+      ->capture_default_str();
+  app.add_option("--max-attempts", options.max_attempts, "Attempts per job before it fails")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  app.add_option("--lease-seconds", options.lease_seconds,
+                 "A worker's lease lasts this long after each heartbeat; then the job is requeued")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--stuck-seconds", options.stuck_seconds,
+                 "A leased job whose progress has not moved for this long is requeued as stuck")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--client-token-file", client_token_file, "File holding the clients' bearer token")
+      ->check(CLI::ExistingFile);
+  app.add_option("--worker-token-file", worker_token_file, "File holding the workers' bearer token")
+      ->check(CLI::ExistingFile);
+  app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain: serve TLS")->check(CLI::ExistingFile);
+  app.add_option("--tls-key", options.tls_key_file, "PEM private key of --tls-cert")->check(CLI::ExistingFile);
+  app.add_flag("--software", software, "Local workers use Mesa's software device (llvmpipe) even with a GPU");
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
-  throw Error(ErrorCode::kUnavailable,
-              "the job service is not in this build yet; use `loom-lab` to run the engine directly");
+
+  options.data_dir = data;
+  if (!client_token_file.empty()) options.client_token = rpc::ReadTokenFile(client_token_file);
+  if (!worker_token_file.empty()) options.worker_token = rpc::ReadTokenFile(worker_token_file);
+  options.local_worker.gl.software_only = software;
+
+  server::LoomServer server(options);
+  std::mutex mu;
+  std::condition_variable signalled;
+  bool stop = false;
+  signals.Listen([&](int signal_number) {
+    spdlog::info("signal {}: stopping", signal_number);
+    std::lock_guard lock(mu);
+    stop = true;
+    signalled.notify_all();
+  });
+  std::unique_lock lock(mu);
+  signalled.wait(lock, [&] { return stop; });
+  server.Shutdown();
+  return 0;
 }
 
 }  // namespace

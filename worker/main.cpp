@@ -1,38 +1,30 @@
-// loom-worker: a render worker. Today it probes the machine: it makes the headless
-// EGL context it will render with and prints the capabilities it will register
-// with the server. Leasing jobs arrives with the job service.
+// loom-worker: a render worker. Connects to loom-server, registers its GL
+// capabilities, leases jobs and runs them on one headless EGL context
+// (worker/worker_loop.h). `--probe` only makes the context and prints the
+// capabilities.
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <thread>
 
 #include "core/gl/egl_context.h"
 #include "core/util/cli_main.h"
+#include "core/util/termination_signals.h"
 #include "core/version.h"
+#include "rpc/auth.h"
+#include "rpc/channel.h"
+#include "worker/worker_loop.h"
 
 namespace loom {
 namespace {
 
-int Main(int argc, char** argv) {
-  CLI::App app{"loom-worker " + std::string(kVersion) + ": leases Loom jobs and runs them on a headless GL context"};
-  app.set_version_flag("--version", kVersion);
-  bool probe = false, json = false, software = false;
-  app.add_flag("--probe", probe, "Make the EGL context and print this worker's capabilities, then exit");
-  app.add_flag("--json", json, "Print the capabilities as one JSON object");
-  app.add_flag("--software", software, "Use Mesa's software device (llvmpipe) even if a GPU is present");
-
-  if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
-  if (!probe) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "this build has no job service to connect to yet; `loom-worker --probe` checks this machine's GL");
-  }
-
-  gl::ContextOptions options = gl::DefaultContextOptions();
-  options.software_only = software;
+int Probe(const gl::ContextOptions& options, bool json) {
   const auto context = gl::EglContext::Create(options);
   const gl::DeviceInfo& device = context->info();
   const unsigned cores = std::thread::hardware_concurrency();
@@ -48,6 +40,44 @@ int Main(int argc, char** argv) {
     std::printf("GL: %s | %s | %s (EGL %s)\ncores: %u\nmemory: %.1f GiB\n", device.gl_vendor.c_str(),
                 device.gl_renderer.c_str(), device.gl_version.c_str(), device.platform.c_str(), cores, memory_gib);
   }
+  return 0;
+}
+
+int Main(int argc, char** argv) {
+  TerminationSignals signals;  // before any thread starts
+  CLI::App app{"loom-worker " + std::string(kVersion) + ": leases Loom jobs and runs them on a headless GL context"};
+  app.set_version_flag("--version", kVersion);
+  bool probe = false, json = false, software = false;
+  rpc::ChannelOptions channel;
+  std::string token_file;
+  double lease_wait_seconds = 10;
+  app.add_flag("--probe", probe, "Make the EGL context and print this worker's capabilities, then exit");
+  app.add_flag("--json", json, "With --probe: print the capabilities as one JSON object");
+  app.add_flag("--software", software, "Use Mesa's software device (llvmpipe) even if a GPU is present");
+  app.add_option("--server", channel.address, "Server address")->capture_default_str();
+  app.add_option("--token-file", token_file,
+                 "File holding the worker token (the server's --worker-token-file); none: send no token")
+      ->check(CLI::ExistingFile);
+  app.add_option("--tls-ca", channel.tls_ca_file, "PEM CA certificate: connect with TLS, verifying the server")
+      ->check(CLI::ExistingFile);
+  app.add_option("--lease-wait", lease_wait_seconds, "Seconds one lease request waits for work on the server")
+      ->check(CLI::Range(0.1, 60.0))
+      ->capture_default_str();
+  if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
+
+  worker::WorkerOptions options;
+  options.gl.software_only = software;
+  if (probe) return Probe(options.gl, json);
+
+  if (!token_file.empty()) channel.token = rpc::ReadTokenFile(token_file);
+  options.lease_wait = std::chrono::milliseconds(static_cast<int64_t>(lease_wait_seconds * 1000));
+  options.label = "worker-" + std::to_string(::getpid());
+  worker::WorkerLoop loop(rpc::MakeChannel(channel), options);
+  signals.Listen([&loop](int signal_number) {
+    spdlog::info("signal {}: finishing or handing back the current job, then exiting", signal_number);
+    loop.Stop();
+  });
+  loop.Run();
   return 0;
 }
 

@@ -13,5 +13,13 @@ TEST(Sha256, MatchesKnownVectors) {
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
 }
 
+TEST(Sha256, IncrementalEqualsOneShot) {
+  Sha256 hasher;
+  hasher.Update("abcdbcdecdefdefgefghfghighij");
+  hasher.Update("");
+  hasher.Update("hijkijkljklmklmnlmnomnopnopq");
+  EXPECT_EQ(hasher.FinishHex(), "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+}
+
 }  // namespace
 }  // namespace loom

@@ -1,11 +1,11 @@
-#include "lab/progress_bar.h"
+#include "core/util/progress_bar.h"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 
-namespace loom::lab {
+namespace loom {
 
 ProgressBar::ProgressBar(std::string label) : label_(std::move(label)), terminal_(::isatty(STDERR_FILENO) == 1) {}
 
@@ -26,4 +26,4 @@ void ProgressBar::Update(double fraction, std::string_view stage) {
   std::fflush(stderr);
 }
 
-}  // namespace loom::lab
+}  // namespace loom

@@ -1,11 +1,11 @@
 #pragma once
-// Progress of long loom-lab work on stderr: a bar redrawn in place on a terminal,
-// nothing when stderr is a file or pipe (the --json figures are the record there).
+// Progress of long work (loom-lab, the loom client) on stderr: a bar redrawn in place on a terminal,
+// nothing when stderr is a file or pipe (the --json output is the record there).
 
 #include <string>
 #include <string_view>
 
-namespace loom::lab {
+namespace loom {
 
 class ProgressBar {
  public:
@@ -22,4 +22,4 @@ class ProgressBar {
   std::string last_stage_;
 };
 
-}  // namespace loom::lab
+}  // namespace loom

@@ -1,0 +1,233 @@
+// loom fabric precompute | render | jobs list|show|watch|cancel|log
+
+#include <cstdio>
+#include <iostream>
+
+#include "client/client_command.h"
+#include "core/image/image.h"
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+#include "loom/v1/job.pb.h"
+
+namespace loom::client {
+namespace {
+
+std::string StateName(v1::JobState state) {
+  return v1::JobState_Name(state).substr(std::string_view("JOB_STATE_").size());
+}
+std::string KindName(v1::JobKind kind) { return v1::JobKind_Name(kind).substr(std::string_view("JOB_KIND_").size()); }
+
+void PrintJobLine(const v1::Job& job) {
+  std::printf("%-36s %-10s %-9s %5.1f%%  %s\n", job.id().c_str(), KindName(job.kind()).c_str(),
+              StateName(job.state()).c_str(), 100.0 * job.progress().fraction(),
+              job.error().empty() ? job.progress().stage().c_str() : job.error().c_str());
+}
+
+void PrintJob(const v1::Job& job) {
+  std::printf("job %s\n  kind: %s\n  state: %s\n  priority: %d\n  attempts: %u of %u\n  progress: %.1f%% %s\n",
+              job.id().c_str(), KindName(job.kind()).c_str(), StateName(job.state()).c_str(), job.priority(),
+              job.attempts(), job.max_attempts(), 100.0 * job.progress().fraction(), job.progress().stage().c_str());
+  if (!job.fabric_key().empty()) std::printf("  fabric key: %s\n", job.fabric_key().c_str());
+  for (const std::string& id : job.depends_on()) std::printf("  depends on: %s\n", id.c_str());
+  for (const std::string& hash : job.result_artifacts()) std::printf("  result: %s\n", hash.c_str());
+  if (!job.worker_id().empty()) std::printf("  worker: %s\n", job.worker_id().c_str());
+  if (!job.error().empty()) std::printf("  error: %s\n", job.error().c_str());
+}
+
+// Options every submitting command shares.
+struct SubmitOptions {
+  int priority = 0;
+  std::string request_id;
+  bool no_wait = false;
+
+  void AddTo(CLI::App* command) {
+    command->add_option("--priority", priority, "Higher runs first")->capture_default_str();
+    command->add_option("--request-id", request_id,
+                        "Idempotency key: submitting again with it returns the first job");
+    command->add_flag("--no-wait", no_wait, "Print the job and return without waiting for it");
+  }
+  void Fill(v1::SubmitJobRequest& request) const {
+    request.set_priority(priority);
+    request.set_client_request_id(request_id);
+  }
+};
+
+// Submit output: the job (JSON, or its id on stdout) and, when waiting, every
+// dependency and then the job followed to the end.
+v1::Job SubmitAndWait(ClientFlags& flags, const v1::SubmitJobRequest& request, const SubmitOptions& options,
+                      const std::string& label) {
+  const v1::SubmitJobResponse response = flags.Connect().Submit(request);
+  if (flags.json) PrintJson(response);
+  else std::fprintf(stderr, "submitted job %s\n", response.job().id().c_str());
+  if (options.no_wait) return response.job();
+  for (const v1::Job& dependency : response.dependencies()) {
+    if (IsTerminal(dependency.state())) continue;
+    WaitForJob(flags, dependency.id(), "precompute " + dependency.fabric_key().substr(0, 8), false);
+  }
+  return WaitForJob(flags, response.job().id(), label, false);
+}
+
+ClientCommand AddPrecompute(CLI::App& fabric, ClientFlags& flags) {
+  struct Options {
+    std::string fabric, settings, out;
+    SubmitOptions submit;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = fabric.add_subcommand("precompute", "Fit a fabric's BRDF array on the server (cached by its key)");
+  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
+  command->add_option("--settings", options->settings, "Precompute settings file (JSON); default: the defaults");
+  command->add_option("--out,-o", options->out, "Also download the fitted asset into this directory");
+  options->submit.AddTo(command);
+  return {command, [&flags, options] {
+            v1::SubmitJobRequest request;
+            v1::PrecomputeJob& job = *request.mutable_precompute();
+            *job.mutable_fabric() = LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric");
+            if (!options->settings.empty()) {
+              *job.mutable_settings() = LoadSpecFile<v1::PrecomputeSettings>(options->settings, "precompute");
+            }
+            options->submit.Fill(request);
+            const v1::Job done = SubmitAndWait(flags, request, options->submit, "precompute");
+            if (options->submit.no_wait) return 0;
+            if (const int code = JobExitCode(done)) return code;
+            if (!options->out.empty()) flags.Connect().DownloadFabric(done.fabric_key(), options->out);
+            if (flags.json) PrintJson(done);
+            else std::printf("fabric %s\n", done.fabric_key().c_str());
+            return 0;
+          }};
+}
+
+ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
+  struct Options {
+    std::string scene, out;
+    SubmitOptions submit;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "render", "Render a scene on the server (its OBJ meshes are uploaded; missing fabrics are precomputed)");
+  command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
+  command->add_option("--out,-o", options->out, "Output image (.png sRGB or .exr linear)")->required();
+  options->submit.AddTo(command);
+  return {command, [&flags, options] {
+            const ImageFileFormat format = FormatFromPath(options->out);  // a bad name fails before any work
+            v1::SubmitJobRequest request;
+            v1::SceneSpec& scene = *request.mutable_render()->mutable_scene();
+            scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
+            const v1::ImageFormat wanted = format == ImageFileFormat::kExr ? v1::IMAGE_FORMAT_EXR : v1::IMAGE_FORMAT_PNG;
+            if (scene.render().format() == v1::IMAGE_FORMAT_UNSPECIFIED) scene.mutable_render()->set_format(wanted);
+            if (scene.render().format() != wanted) {
+              throw Error(ErrorCode::kInvalidArgument, "scene.render.format is " +
+                                                           v1::ImageFormat_Name(scene.render().format()) +
+                                                           " but the output file is " + options->out);
+            }
+            const int uploaded =
+                flags.Connect().UploadMeshes(scene, std::filesystem::path(options->scene).parent_path());
+            if (uploaded > 0 && !flags.json) std::fprintf(stderr, "uploaded %d mesh(es)\n", uploaded);
+            options->submit.Fill(request);
+            const v1::Job done = SubmitAndWait(flags, request, options->submit, "render");
+            if (options->submit.no_wait) return 0;
+            if (const int code = JobExitCode(done)) return code;
+            if (done.result_artifacts_size() != 1) {
+              throw Error(ErrorCode::kInternal, "render job " + done.id() + " has " +
+                                                    std::to_string(done.result_artifacts_size()) + " results, not 1");
+            }
+            WriteFileAtomic(options->out, flags.Connect().Download(done.result_artifacts(0)));
+            if (flags.json) PrintJson(done);
+            else std::printf("wrote %s (job %s)\n", options->out.c_str(), done.id().c_str());
+            return 0;
+          }};
+}
+
+std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
+  auto* jobs = app.add_subcommand("jobs", "List, show, watch, cancel jobs and read their logs");
+  std::vector<ClientCommand> commands;
+
+  struct ListOptions {
+    std::vector<std::string> states, kinds;
+    uint32_t limit = 100;
+    std::string page_token;
+  };
+  auto list_options = std::make_shared<ListOptions>();
+  auto* list = jobs->add_subcommand("list", "Jobs, newest first");
+  list->add_option("--state", list_options->states, "Only these states (queued, leased, running, succeeded, ...)");
+  list->add_option("--kind", list_options->kinds, "Only these kinds (precompute, render)");
+  list->add_option("--limit", list_options->limit, "Page size")->check(CLI::Range(1, 1000))->capture_default_str();
+  list->add_option("--page-token", list_options->page_token, "Continue from a previous page");
+  commands.push_back({list, [&flags, list_options] {
+                        v1::ListJobsRequest request;
+                        for (std::string state : list_options->states) {
+                          for (char& c : state) c = static_cast<char>(std::toupper(c));
+                          v1::JobState value;
+                          if (!v1::JobState_Parse("JOB_STATE_" + state, &value)) {
+                            throw Error(ErrorCode::kInvalidArgument, "--state: unknown state '" + state + "'");
+                          }
+                          request.add_states(value);
+                        }
+                        for (std::string kind : list_options->kinds) {
+                          for (char& c : kind) c = static_cast<char>(std::toupper(c));
+                          v1::JobKind value;
+                          if (!v1::JobKind_Parse("JOB_KIND_" + kind, &value)) {
+                            throw Error(ErrorCode::kInvalidArgument, "--kind: unknown kind '" + kind + "'");
+                          }
+                          request.add_kinds(value);
+                        }
+                        request.set_page_size(list_options->limit);
+                        request.set_page_token(list_options->page_token);
+                        const v1::ListJobsResponse response = flags.Connect().List(request);
+                        if (flags.json) {
+                          PrintJson(response);
+                          return 0;
+                        }
+                        for (const v1::Job& job : response.jobs()) PrintJobLine(job);
+                        if (!response.next_page_token().empty()) {
+                          std::printf("more: --page-token %s\n", response.next_page_token().c_str());
+                        }
+                        return 0;
+                      }});
+
+  // show, watch, cancel, log: one job id each.
+  auto job_id = std::make_shared<std::string>();
+  auto add = [&](const char* name, const char* help, std::function<int()> run) {
+    auto* command = jobs->add_subcommand(name, help);
+    command->add_option("job", *job_id, "Job id")->required();
+    commands.push_back({command, std::move(run)});
+  };
+  add("show", "A job's state, progress, results and error", [&flags, job_id] {
+    const v1::Job job = flags.Connect().Get(*job_id);
+    if (flags.json) PrintJson(job);
+    else PrintJob(job);
+    return 0;
+  });
+  add("watch", "Follow a job to its end (its log lines, a progress bar on a terminal)", [&flags, job_id] {
+    return JobExitCode(WaitForJob(flags, *job_id, "job " + job_id->substr(0, 8), true));
+  });
+  add("cancel", "Cancel a job (a running one stops at its worker's next heartbeat)", [&flags, job_id] {
+    const v1::Job job = flags.Connect().Cancel(*job_id);
+    if (flags.json) PrintJson(job);
+    else PrintJobLine(job);
+    return 0;
+  });
+  add("log", "A job's log: the queue's and its workers' lines", [&flags, job_id] {
+    const std::vector<std::string> lines = flags.Connect().Log(*job_id);
+    if (flags.json) {
+      v1::GetJobLogResponse response;
+      for (const std::string& line : lines) response.add_lines(line);
+      PrintJson(response);
+    } else {
+      for (const std::string& line : lines) std::printf("%s\n", line.c_str());
+    }
+    return 0;
+  });
+  return commands;
+}
+
+}  // namespace
+
+std::vector<ClientCommand> AddJobCommands(CLI::App& app, ClientFlags& flags) {
+  auto* fabric = app.add_subcommand("fabric", "Fabric precomputes");
+  std::vector<ClientCommand> commands = {AddPrecompute(*fabric, flags), AddRender(app, flags)};
+  for (ClientCommand& command : AddJobsCommands(app, flags)) commands.push_back(std::move(command));
+  return commands;
+}
+
+}  // namespace loom::client

@@ -1,0 +1,41 @@
+#pragma once
+// A scene rendered with the `svbrdf` method from fabrics that are already fitted:
+// the one piece shared by `loom-lab render` (which fits each fabric in-process) and
+// the render worker (which reads them from cached assets), so both make the same
+// frame from the same fits.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/fit/fabric_fit.h"
+#include "core/render/svbrdf_renderer.h"
+#include "core/scene/scene_geometry.h"
+#include "loom/v1/fabric.pb.h"
+#include "loom/v1/precompute.pb.h"
+#include "loom/v1/scene.pb.h"
+
+namespace loom {
+
+// One fabric a scene needs: what it is, how it is precomputed, and its cache key.
+struct SceneFabric {
+  std::string key;  // FabricKey(fabric, settings)
+  v1::FabricSpec fabric;
+  v1::PrecomputeSettings settings;
+};
+
+// The distinct fabrics of `scene` (defaults applied), in order of first use.
+// Objects sharing a fabric and settings share one entry.
+std::vector<SceneFabric> SceneFabrics(const v1::SceneSpec& scene);
+
+// Fitted fabrics by cache key; the caller owns them.
+using FittedFabrics = std::map<std::string, const FittedFabric*>;
+
+// Uploads each distinct fabric once and renders with `renderer` on its context
+// (current on the calling thread). `scene` with defaults applied and validated,
+// `meshes` = BuildSceneGeometry(scene). Throws Error(kFailedPrecondition) naming
+// the object whose fabric is not in `fits`.
+RenderedFrame RenderScene(SvbrdfRenderer& renderer, const v1::SceneSpec& scene,
+                          const std::vector<SceneMesh>& meshes, const FittedFabrics& fits);
+
+}  // namespace loom

@@ -1,0 +1,65 @@
+#pragma once
+// Artifacts over gRPC streams: a header (name, size, SHA-256) then kChunkBytes
+// pieces. The receiver hashes what arrives and refuses a transfer whose size or
+// hash differs from the header, so a truncated or corrupted file is never stored or
+// used (the server's receiving side streams into its artifact store:
+// server/artifact_upload.h). Client and worker stubs share the message types, so
+// one template serves both.
+
+#include <grpcpp/client_context.h>
+#include <grpcpp/support/sync_stream.h>
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "loom/v1/service.pb.h"
+#include "rpc/status.h"
+
+namespace loom::rpc {
+
+// name, size and SHA-256 of `bytes`.
+v1::ArtifactRef MakeArtifactRef(std::string name, std::string_view bytes);
+
+// Sender side of an upload: the header, then the chunks, then WritesDone.
+void WriteUpload(grpc::ClientWriterInterface<v1::UploadArtifactRequest>& writer,
+                 const v1::UploadArtifactRequest::Header& header, std::string_view bytes);
+
+// Receiver side of a download: every chunk, checked against the first message's
+// size and hash once the stream ends (call after Finish succeeded).
+struct Download {
+  v1::ArtifactRef artifact;
+  std::string bytes;
+};
+Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader);
+void VerifyDownload(const Download& download, std::string_view sha256);
+
+// Server side of a download.
+void SendArtifact(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact,
+                  std::string_view bytes);
+
+// Uploads `bytes` through `stub` (LoomService or WorkerService).
+template <typename Stub>
+v1::ArtifactRef UploadArtifact(Stub& stub, const v1::UploadArtifactRequest::Header& header, std::string_view bytes) {
+  grpc::ClientContext context;
+  v1::UploadArtifactResponse response;
+  const auto writer = stub.UploadArtifact(&context, &response);
+  WriteUpload(*writer, header, bytes);
+  ThrowIfFailed(writer->Finish(), "UploadArtifact " + header.artifact().name());
+  return response.artifact();
+}
+
+// Downloads the artifact with this hash through `stub`, verified.
+template <typename Stub>
+std::string DownloadArtifact(Stub& stub, const std::string& sha256) {
+  grpc::ClientContext context;
+  v1::DownloadArtifactRequest request;
+  request.set_sha256(sha256);
+  const auto reader = stub.DownloadArtifact(&context, request);
+  Download download = ReadDownload(*reader);
+  ThrowIfFailed(reader->Finish(), "DownloadArtifact " + sha256);
+  VerifyDownload(download, sha256);
+  return std::move(download.bytes);
+}
+
+}  // namespace loom::rpc

@@ -1,0 +1,224 @@
+#include "server/job_service.h"
+
+#include <chrono>
+
+#include "core/util/error.h"
+#include "core/version.h"
+#include "rpc/artifact_transfer.h"
+#include "server/artifact_upload.h"
+#include "server/call_guard.h"
+#include "server/job_submission.h"
+
+namespace loom::server {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr size_t kMinKeyPrefix = 8;
+
+bool IsTerminal(v1::JobState state) {
+  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
+}
+
+}  // namespace
+
+v1::CachedFabric ToCachedFabric(const FabricEntry& entry) {
+  v1::CachedFabric fabric;
+  fabric.set_fabric_key(entry.key);
+  for (const FabricFile& file : entry.files) {
+    v1::ArtifactRef& ref = *fabric.add_files();
+    ref.set_name(file.name);
+    ref.set_sha256(file.hash);
+    ref.set_size(file.bytes);
+  }
+  fabric.set_total_bytes(entry.total_bytes);
+  fabric.set_pinned(entry.pinned);
+  fabric.set_created_ms(entry.created_ms);
+  fabric.set_last_used_ms(entry.last_used_ms);
+  return fabric;
+}
+
+void SendStoredArtifact(ArtifactStore& artifacts, const std::string& sha256,
+                        grpc::ServerWriter<v1::ArtifactChunk>& writer) {
+  CheckArtifactHash(sha256, "sha256");
+  const std::string bytes = artifacts.Read(sha256);
+  v1::ArtifactRef artifact;
+  artifact.set_sha256(sha256);
+  artifact.set_size(bytes.size());
+  rpc::SendArtifact(writer, artifact, bytes);
+}
+
+grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
+                                   v1::SubmitJobResponse* response) {
+  return Guard(*context, state_.client_token, "SubmitJob", [&] {
+    if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
+    *response = server::SubmitJob(*request, state_.queue, state_.artifacts, state_.cache);
+  });
+}
+
+grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
+  return Guard(*context, state_.client_token, "GetJob", [&] { *response = state_.queue.Get(request->job_id()); });
+}
+
+grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
+                                  v1::ListJobsResponse* response) {
+  return Guard(*context, state_.client_token, "ListJobs", [&] {
+    JobFilter filter;
+    for (const int state : request->states()) filter.states.push_back(static_cast<v1::JobState>(state));
+    for (const int kind : request->kinds()) filter.kinds.push_back(static_cast<v1::JobKind>(kind));
+    JobPage page = state_.queue.List(filter, static_cast<int>(request->page_size()), request->page_token());
+    for (v1::Job& job : page.jobs) *response->add_jobs() = std::move(job);
+    response->set_next_page_token(page.next_page_token);
+  });
+}
+
+grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
+                                  grpc::ServerWriter<v1::JobEvent>* writer) {
+  return Guard(*context, state_.client_token, "WatchJob", [&] {
+    const std::string& id = request->job_id();
+    int64_t lines_sent = 0;
+    uint64_t version = state_.queue.Version();
+    while (true) {
+      v1::JobEvent event;
+      *event.mutable_job() = state_.queue.Get(id);
+      for (std::string& line : state_.queue.Log(id, lines_sent)) event.add_log_lines(std::move(line));
+      lines_sent += event.log_lines_size();
+      if (!writer->Write(event) || IsTerminal(event.job().state())) return;
+      // Wait for the next change, looking up every second for a client that left
+      // or a server that is stopping.
+      std::optional<uint64_t> changed;
+      while (!changed) {
+        if (context->IsCancelled()) return;
+        if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
+        changed = state_.queue.WaitForChange(id, version, std::chrono::steady_clock::now() + 1s);
+      }
+      version = *changed;
+    }
+  });
+}
+
+grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
+                                   v1::Job* response) {
+  return Guard(*context, state_.client_token, "CancelJob", [&] {
+    *response = state_.queue.Cancel(request->job_id());
+    ReleaseIfEnded(state_, *response);
+    spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
+  });
+}
+
+grpc::Status JobService::GetJobLog(grpc::ServerContext* context, const v1::GetJobLogRequest* request,
+                                   v1::GetJobLogResponse* response) {
+  return Guard(*context, state_.client_token, "GetJobLog", [&] {
+    state_.queue.Get(request->job_id());  // kNotFound for an unknown id
+    for (std::string& line : state_.queue.Log(request->job_id(), 0)) response->add_lines(std::move(line));
+  });
+}
+
+grpc::Status JobService::ListFabrics(grpc::ServerContext* context, const v1::ListFabricsRequest*,
+                                     v1::ListFabricsResponse* response) {
+  return Guard(*context, state_.client_token, "ListFabrics", [&] {
+    for (const FabricEntry& entry : state_.cache.List()) *response->add_fabrics() = ToCachedFabric(entry);
+    response->set_total_bytes(state_.artifacts.TotalBytes());
+    response->set_budget_bytes(state_.artifacts.options().budget_bytes);
+  });
+}
+
+std::string JobService::ResolveFabricKey(const std::string& key_or_prefix) {
+  if (key_or_prefix.size() < kMinKeyPrefix) {
+    throw Error(ErrorCode::kInvalidArgument, "fabric_key: '" + key_or_prefix + "' is shorter than " +
+                                                 std::to_string(kMinKeyPrefix) + " hex digits");
+  }
+  std::vector<std::string> matches;
+  for (const FabricEntry& entry : state_.cache.List()) {
+    if (entry.key.starts_with(key_or_prefix)) matches.push_back(entry.key);
+  }
+  if (matches.empty()) throw Error(ErrorCode::kNotFound, "fabric_key: no cached fabric " + key_or_prefix);
+  if (matches.size() > 1) {
+    throw Error(ErrorCode::kInvalidArgument, "fabric_key: prefix " + key_or_prefix + " matches " +
+                                                 std::to_string(matches.size()) + " fabrics");
+  }
+  return matches.front();
+}
+
+grpc::Status JobService::GetFabric(grpc::ServerContext* context, const v1::GetFabricRequest* request,
+                                   v1::GetFabricResponse* response) {
+  return Guard(*context, state_.client_token, "GetFabric", [&] {
+    const std::string key = ResolveFabricKey(request->fabric_key());
+    const std::optional<FabricEntry> entry = state_.cache.Get(key);
+    if (!entry) {
+      throw Error(ErrorCode::kNotFound, "fabric " + key + " is no longer cached (a file was missing or corrupt)");
+    }
+    *response->mutable_fabric() = ToCachedFabric(*entry);
+    response->set_manifest_json(entry->manifest_json);
+  });
+}
+
+grpc::Status JobService::DeleteFabric(grpc::ServerContext* context, const v1::DeleteFabricRequest* request,
+                                      v1::DeleteFabricResponse*) {
+  return Guard(*context, state_.client_token, "DeleteFabric", [&] {
+    const std::string key = ResolveFabricKey(request->fabric_key());
+    state_.cache.Delete(key);
+    spdlog::info("fabric {} deleted", key);
+  });
+}
+
+grpc::Status JobService::PinFabric(grpc::ServerContext* context, const v1::PinFabricRequest* request,
+                                   v1::PinFabricResponse* response) {
+  return Guard(*context, state_.client_token, "PinFabric", [&] {
+    const std::string key = ResolveFabricKey(request->fabric_key());
+    if (request->pinned()) state_.cache.Pin(key);
+    else state_.cache.Unpin(key);
+    for (const FabricEntry& entry : state_.cache.List()) {
+      if (entry.key == key) *response->mutable_fabric() = ToCachedFabric(entry);
+    }
+  });
+}
+
+grpc::Status JobService::FindMissingArtifacts(grpc::ServerContext* context,
+                                              const v1::FindMissingArtifactsRequest* request,
+                                              v1::FindMissingArtifactsResponse* response) {
+  return Guard(*context, state_.client_token, "FindMissingArtifacts", [&] {
+    std::vector<std::string> hashes;
+    for (int i = 0; i < request->sha256_size(); ++i) {
+      CheckArtifactHash(request->sha256(i), "sha256[" + std::to_string(i) + "]");
+      hashes.push_back(request->sha256(i));
+    }
+    for (std::string& hash : state_.artifacts.Missing(hashes)) response->add_missing(std::move(hash));
+  });
+}
+
+grpc::Status JobService::UploadArtifact(grpc::ServerContext* context,
+                                        grpc::ServerReader<v1::UploadArtifactRequest>* reader,
+                                        v1::UploadArtifactResponse* response) {
+  return Guard(*context, state_.client_token, "UploadArtifact", [&] {
+    *response->mutable_artifact() =
+        ReceiveUpload(*reader, state_.artifacts, kMaxMeshUploadBytes, [](const v1::UploadArtifactRequest::Header& h) {
+          if (!h.job_id().empty() || h.fencing_token() != 0) {
+            throw Error(ErrorCode::kInvalidArgument, "header.job_id: client uploads belong to no job");
+          }
+        });
+  });
+}
+
+grpc::Status JobService::DownloadArtifact(grpc::ServerContext* context, const v1::DownloadArtifactRequest* request,
+                                          grpc::ServerWriter<v1::ArtifactChunk>* writer) {
+  return Guard(*context, state_.client_token, "DownloadArtifact",
+               [&] { SendStoredArtifact(state_.artifacts, request->sha256(), *writer); });
+}
+
+grpc::Status JobService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*,
+                                       v1::ServerInfo* response) {
+  return Guard(*context, state_.client_token, "GetServerInfo", [&] {
+    const QueueDepth depth = state_.queue.Depth();
+    response->set_version(kVersion);
+    response->set_health(state_.draining ? "draining" : "serving");
+    response->set_queued_jobs(depth.Count(v1::JOB_STATE_QUEUED));
+    response->set_running_jobs(depth.Count(v1::JOB_STATE_LEASED) + depth.Count(v1::JOB_STATE_RUNNING));
+    response->set_registered_workers(state_.workers.size());
+    response->set_cached_fabrics(state_.cache.List().size());
+    response->set_auth_required(!state_.client_token.empty());
+    response->set_tls(state_.tls);
+  });
+}
+
+}  // namespace loom::server

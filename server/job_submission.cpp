@@ -1,0 +1,137 @@
+#include "server/job_submission.h"
+
+#include <google/protobuf/unknown_field_set.h>
+#include <spdlog/spdlog.h>
+
+#include <set>
+
+#include "core/render/scene_render.h"
+#include "core/scene/scene_geometry.h"
+#include "core/spec/defaults.h"
+#include "core/spec/fabric_key.h"
+#include "core/spec/validate.h"
+#include "core/util/error.h"
+
+namespace loom::server {
+namespace {
+
+constexpr size_t kMaxClientRequestId = 128;
+
+void Invalid(const std::string& path, const std::string& message) {
+  throw Error(ErrorCode::kInvalidArgument, path + ": " + message);
+}
+
+// Protobuf keeps fields it does not know (from a client built with a newer schema)
+// as unknown fields; the server refuses them rather than silently ignore a setting.
+void CheckNoUnknownFields(const google::protobuf::Message& message, const std::string& path) {
+  const google::protobuf::Reflection& reflection = *message.GetReflection();
+  const google::protobuf::UnknownFieldSet& unknown = reflection.GetUnknownFields(message);
+  if (!unknown.empty()) Invalid(path, "unknown field number " + std::to_string(unknown.field(0).number()));
+  std::vector<const google::protobuf::FieldDescriptor*> fields;
+  reflection.ListFields(message, &fields);
+  for (const google::protobuf::FieldDescriptor* field : fields) {
+    if (field->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_MESSAGE) continue;
+    const std::string field_path = path + "." + field->name();
+    if (!field->is_repeated()) {
+      CheckNoUnknownFields(reflection.GetMessage(message, field), field_path);
+      continue;
+    }
+    for (int i = 0; i < reflection.FieldSize(message, field); ++i) {
+      CheckNoUnknownFields(reflection.GetRepeatedMessage(message, field, i), field_path + "[" + std::to_string(i) + "]");
+    }
+  }
+}
+
+// Meshes must be built-in or uploaded artifacts (hashes already validated); returns
+// the artifacts' hashes.
+std::set<std::string> CheckMeshSources(const v1::SceneSpec& scene, ArtifactStore& artifacts) {
+  std::set<std::string> hashes;
+  for (int i = 0; i < scene.objects_size(); ++i) {
+    const v1::MeshRef& mesh = scene.objects(i).mesh();
+    const std::string path = "scene.objects[" + std::to_string(i) + "].mesh";
+    if (mesh.source_case() == v1::MeshRef::kObjPath) {
+      Invalid(path + ".obj_path",
+              "the server never opens client paths; upload the mesh and name its artifact (loom render does)");
+    }
+    if (mesh.source_case() != v1::MeshRef::kArtifact) continue;
+    if (!artifacts.Has(mesh.artifact())) {
+      throw Error(ErrorCode::kNotFound, path + ".artifact: no artifact " + mesh.artifact() +
+                                            " on the server (upload it first: FindMissingArtifacts, UploadArtifact)");
+    }
+    hashes.insert(mesh.artifact());
+  }
+  return hashes;
+}
+
+v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
+  const v1::PrecomputeJob& precompute = request.precompute();
+  ThrowIfAny(Validate(precompute.fabric(), precompute.settings()));
+  v1::Job job;
+  job.set_kind(v1::JOB_KIND_PRECOMPUTE);
+  *job.mutable_precompute() = precompute;
+  job.set_fabric_key(FabricKey(precompute.fabric(), precompute.settings()));
+  return job;
+}
+
+}  // namespace
+
+std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
+
+v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
+                                FabricCache& cache) {
+  CheckNoUnknownFields(request, "request");
+  if (request.client_request_id().size() > kMaxClientRequestId) {
+    Invalid("client_request_id", std::to_string(request.client_request_id().size()) + " characters exceed " +
+                                     std::to_string(kMaxClientRequestId));
+  }
+  v1::SubmitJobResponse response;
+  if (request.payload_case() == v1::SubmitJobRequest::kPrecompute) {
+    v1::Job job = CheckedPrecompute(request);
+    // An explicit precompute joins one already running for the same fabric, unless
+    // the client names its own request id (then the id decides what is a retry).
+    if (request.client_request_id().empty()) {
+      *response.mutable_job() = queue.SubmitPrecomputeOnce(job.precompute(), job.fabric_key(), request.priority());
+    } else {
+      job.set_priority(request.priority());
+      job.set_client_request_id(request.client_request_id());
+      *response.mutable_job() = queue.Submit(job);
+    }
+    spdlog::info("job {}: precompute of fabric {}", response.job().id(), response.job().fabric_key());
+    return response;
+  }
+  if (request.payload_case() != v1::SubmitJobRequest::kRender) {
+    Invalid("payload", "one of precompute or render is required");
+  }
+
+  const v1::SceneSpec& scene = request.render().scene();
+  ThrowIfAny(Validate(scene));
+  const std::set<std::string> meshes = CheckMeshSources(scene, artifacts);
+  const v1::SceneSpec full = WithDefaults(scene);
+  // Parses every mesh now (errors name the object), so a bad OBJ is refused here
+  // rather than failing on a worker.
+  BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh) { return artifacts.Read(mesh.artifact()); });
+
+  v1::Job job;
+  job.set_kind(v1::JOB_KIND_RENDER);
+  *job.mutable_render() = request.render();
+  job.set_priority(request.priority());
+  job.set_client_request_id(request.client_request_id());
+  if (full.render().method() == v1::RENDER_METHOD_SVBRDF) {
+    for (const SceneFabric& fabric : SceneFabrics(full)) {
+      if (cache.Get(fabric.key)) continue;
+      v1::PrecomputeJob precompute;
+      *precompute.mutable_fabric() = fabric.fabric;
+      *precompute.mutable_settings() = fabric.settings;
+      v1::Job dependency = queue.SubmitPrecomputeOnce(precompute, fabric.key, request.priority());
+      job.add_depends_on(dependency.id());
+      *response.add_dependencies() = std::move(dependency);
+    }
+  }
+  *response.mutable_job() = queue.Submit(job);
+  for (const std::string& hash : meshes) artifacts.Pin(hash, JobPinOwner(response.job().id()));
+  spdlog::info("job {}: render '{}' ({} fabric precompute(s) to wait for)", response.job().id(), scene.name(),
+               response.dependencies_size());
+  return response;
+}
+
+}  // namespace loom::server

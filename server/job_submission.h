@@ -1,0 +1,24 @@
+#pragma once
+// Turning a SubmitJobRequest into queue jobs, all checks first so that a rejected
+// request stores nothing: specs validated (core/spec/validate.h: every issue, with
+// field path and limit), meshes named by uploaded artifacts only (a client path is
+// refused, never opened) and parsed, then for a svbrdf render each fabric the cache
+// lacks gets its precompute (JobQueue::SubmitPrecomputeOnce: joined, never doubled)
+// and the render depends on them.
+
+#include "loom/v1/service.pb.h"
+#include "server/store/artifact_store.h"
+#include "server/store/fabric_cache.h"
+#include "server/store/job_queue.h"
+
+namespace loom::server {
+
+// Error(kInvalidArgument) naming field and limit for a bad request; Error(kNotFound)
+// for a mesh artifact the server lacks.
+v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
+                                FabricCache& cache);
+
+// The pin owner of a render job's meshes, held until the job ends.
+std::string JobPinOwner(const std::string& job_id);
+
+}  // namespace loom::server

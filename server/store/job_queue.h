@@ -1,0 +1,219 @@
+#pragma once
+// The durable job queue (DESIGN.md "Server, worker, client"; issue #6).
+//
+// Every job lives in one SQLite database, DATA/jobs.db, in WAL mode: a committed
+// change survives kill -9 of the server. The queue is the single authority on a
+// job's state; the gRPC service, the workers' leases and WatchJob are views of it.
+//
+// States: QUEUED -> LEASED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED.
+// - Lease gives the highest-priority job (FIFO within a priority) whose dependencies
+//   all SUCCEEDED and which the asking worker has not failed before. Each lease
+//   carries a fencing token, unique and increasing across the queue's lifetime:
+//   Heartbeat, Complete, Fail and CheckLease must present the current one, so a
+//   worker whose lease expired (or was voided by a server restart) can never report
+//   on the job again, and a job never completes twice.
+// - A lease ends by Complete, Fail, expiry (no heartbeat before the deadline),
+//   being stuck (heartbeats, but progress has not moved for `stuck_after_ms`), or a
+//   server restart (every LEASED/RUNNING job is requeued when the queue is opened).
+//   Every way but Complete is a failed attempt: the job is requeued while
+//   attempts < max_attempts, otherwise it ends FAILED with the last error.
+// - A job that ends FAILED or CANCELLED fails every job that depends on it
+//   (transitively), with an error naming the dependency.
+// - Cancel: a QUEUED job is CANCELLED at once. A leased one gets cancel_requested;
+//   the worker learns it from its next Heartbeat (kCancelRequested) and then calls
+//   Fail (any message), which ends the job CANCELLED instead of requeuing it. A
+//   Complete after a cancel request also ends it CANCELLED (results dropped), and a
+//   lease that expires with a cancel request pending ends CANCELLED too.
+//
+// The queue writes its own log lines on every transition ("leased by worker w1
+// (attempt 1 of 3)", "lease expired: ...") into the job's log, next to the
+// worker's lines from AppendLog.
+//
+// Thread-safe: one connection behind one mutex. One process per data directory.
+
+#include <array>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "loom/v1/job.pb.h"
+#include "server/store/clock.h"
+
+namespace loom::server {
+
+class SqliteDb;
+
+struct JobQueueOptions {
+  // A lease lasts this long after Lease and after each Heartbeat.
+  int64_t lease_duration_ms = 30'000;
+  // A leased job whose progress (fraction or stage) has not changed for this long
+  // is treated like an expired lease.
+  int64_t stuck_after_ms = 10 * 60'000;
+  // Used when a submitted job leaves max_attempts at 0.
+  uint32_t default_max_attempts = 3;
+};
+
+struct JobLease {
+  v1::Job job;         // state LEASED, attempts already counting this lease
+  uint64_t token = 0;  // fencing token: present it on every call about this job
+  int64_t deadline_ms = 0;
+};
+
+enum class HeartbeatStatus {
+  kOk,               // lease extended; keep working
+  kCancelRequested,  // lease extended; stop, then Fail() to end the job CANCELLED
+  kStaleToken,       // the lease is gone (expired, requeued, finished): drop the job
+};
+
+struct JobFilter {
+  std::vector<v1::JobState> states;  // empty: any state
+  std::vector<v1::JobKind> kinds;    // empty: any kind
+};
+
+struct JobPage {
+  std::vector<v1::Job> jobs;    // newest first (submission order, reversed)
+  std::string next_page_token;  // empty on the last page
+};
+
+struct QueueDepth {
+  std::array<int64_t, v1::JobState_ARRAYSIZE> by_state{};  // indexed by JobState
+  int64_t ready = 0;  // QUEUED with every dependency SUCCEEDED: leasable now
+
+  int64_t Count(v1::JobState state) const { return by_state[state]; }
+};
+
+class JobQueue {
+ public:
+  // Opens (creating if needed) DATA/jobs.db and requeues every LEASED/RUNNING job
+  // left by a previous process (a failed attempt: "server restarted ...").
+  // `clock` must outlive the queue.
+  JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options = {});
+  ~JobQueue();
+  JobQueue(const JobQueue&) = delete;
+  JobQueue& operator=(const JobQueue&) = delete;
+
+  const JobQueueOptions& options() const { return options_; }
+
+  // --- Submitting ---------------------------------------------------------------
+
+  // Adds a job. Read from `job`: kind and the matching payload (required),
+  // priority, max_attempts (0: the default; at most 100), client_request_id,
+  // depends_on (existing job ids), fabric_key; every other field is the queue's.
+  // A client_request_id already used returns that job unchanged (idempotent retry);
+  // reusing one for a different kind or payload is kInvalidArgument.
+  // Unknown dependency: kNotFound. A dependency already FAILED/CANCELLED: the job is
+  // stored and returned FAILED at once, naming it.
+  v1::Job Submit(const v1::Job& job);
+
+  // The precompute job that will produce fabric `fabric_key`: an active one
+  // (QUEUED, LEASED or RUNNING) for that key is joined, otherwise one is created;
+  // atomic, so concurrent callers get one job. A joined QUEUED job's priority is
+  // raised to `priority` if lower (a render must not wait behind its own fabric).
+  // SUCCEEDED jobs are not joined: the caller asks only after a cache miss, and a
+  // finished precompute whose fabric was since evicted (or found corrupt) must run
+  // again.
+  v1::Job SubmitPrecomputeOnce(const v1::PrecomputeJob& precompute, const std::string& fabric_key,
+                               int32_t priority);
+
+  // --- Workers ------------------------------------------------------------------
+
+  // Leases the next job for `worker_id` (non-empty), or nullopt if none is leasable.
+  std::optional<JobLease> Lease(const std::string& worker_id);
+  // Lease, waiting until a job becomes leasable (submit, requeue, a dependency
+  // succeeding), `deadline` passes or Shutdown() is called. For LeaseJob's long poll.
+  std::optional<JobLease> LeaseWait(const std::string& worker_id,
+                                    std::chrono::steady_clock::time_point deadline);
+
+  // Records progress (fraction in [0, 1], else kInvalidArgument) and extends the
+  // lease; LEASED becomes RUNNING. Unknown id: kNotFound.
+  HeartbeatStatus Heartbeat(const std::string& id, uint64_t token, double fraction,
+                            const std::string& stage);
+
+  // Throws kFailedPrecondition unless `token` is the job's current lease (kNotFound
+  // for an unknown id). For uploads: an artifact is accepted only from the holder.
+  void CheckLease(const std::string& id, uint64_t token) const;
+
+  // Ends the lease successfully with the job's result artifact hashes (64 lowercase
+  // hex digits each, else kInvalidArgument). Returns the job as it ended: SUCCEEDED,
+  // or CANCELLED if a cancel was requested meanwhile. Stale token:
+  // kFailedPrecondition, nothing changes.
+  v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts);
+
+  // Ends the lease as a failed attempt. The worker will not be given this job
+  // again. Returns the job as it ended: QUEUED (retried), FAILED (attempts used up),
+  // or CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
+  v1::Job Fail(const std::string& id, uint64_t token, const std::string& error);
+
+  // Ends every lease past its deadline or stuck, as failed attempts. Call it from a
+  // timer (every second or so). Returns how many leases it ended.
+  int RequeueExpired();
+
+  // --- Clients ------------------------------------------------------------------
+
+  // QUEUED: CANCELLED now. LEASED/RUNNING: cancel requested (see above).
+  // Already finished: kFailedPrecondition. Unknown: kNotFound. Returns the job.
+  v1::Job Cancel(const std::string& id);
+
+  // Unknown id: kNotFound.
+  v1::Job Get(const std::string& id) const;
+
+  // page_size <= 0: 100; at most 1000. page_token: "" or a previous next_page_token
+  // (anything else: kInvalidArgument). Jobs submitted meanwhile never shift pages.
+  JobPage List(const JobFilter& filter, int page_size, const std::string& page_token) const;
+
+  QueueDepth Depth() const;
+
+  // A job's log: lines appended by its workers and by the queue, numbered from 0.
+  void AppendLog(const std::string& id, const std::string& line);
+  std::vector<std::string> Log(const std::string& id, int64_t from_line) const;
+
+  // --- Watching -----------------------------------------------------------------
+
+  // A counter that increases with every change to any job (state, progress, log).
+  // Not persisted: it is only meaningful within one process.
+  uint64_t Version() const;
+
+  // Waits until job `id` (any job if `id` is empty) has changed after `seen_version`
+  // was read from Version(). Returns the new Version(), or nullopt at `deadline` or
+  // Shutdown(). WatchJob: v = Version(); send Get(id) and Log(id, n); repeat with
+  // WaitForChange(id, v, deadline).
+  std::optional<uint64_t> WaitForChange(const std::string& id, uint64_t seen_version,
+                                        std::chrono::steady_clock::time_point deadline) const;
+
+  // Wakes every waiter (LeaseWait, WaitForChange) and makes later waits return at
+  // once, so that server shutdown is not held up by long polls.
+  void Shutdown();
+
+ private:
+  struct Row;
+  class Txn;
+
+  // With mu_ held (and, for changes, inside a Txn).
+  std::optional<Row> FindRow(const std::string& id) const;
+  Row RequireRow(const std::string& id) const;
+  Row RequireLease(const std::string& id, uint64_t token) const;
+  v1::Job ToJob(const Row& row) const;
+  v1::Job InsertJob(const v1::Job& job, int64_t now_ms);
+  std::optional<JobLease> LeaseLocked(const std::string& worker_id);
+  void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
+  void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
+  void FailDependants(const Row& dependency, const std::string& reason, int64_t now_ms);
+  void WriteLog(int64_t seq, const std::string& line);
+  void Touch(int64_t seq);  // bumps version_ and the job's version
+
+  const Clock& clock_;
+  const JobQueueOptions options_;
+  mutable std::mutex mu_;
+  mutable std::condition_variable changed_;
+  std::unique_ptr<SqliteDb> db_;
+  uint64_t version_ = 0;
+  bool shutdown_ = false;
+};
+
+}  // namespace loom::server

@@ -1,0 +1,99 @@
+// The `loom` binary against a server in this process: what scripts rely on (exit
+// codes, messages naming the field, mesh upload, the frame on disk).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+
+#include "core/spec/spec_json.h"
+#include "core/util/file_io.h"
+#include "tests/server/service_fixture.h"
+
+namespace loom::server {
+namespace {
+
+struct CliRun {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+class LoomCliTest : public ServiceTest {
+ protected:
+  CliRun Loom(const std::string& arguments, const std::string& server = "") {
+    const auto output_path = data_dir_ / "cli-output.txt";
+    const std::string command = std::string(LOOM_CLI) + " --server " +
+                                (server.empty() ? server_->address() : server) + " " + arguments + " > " +
+                                output_path.string() + " 2>&1";
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(output_path)};
+  }
+  std::filesystem::path Write(const std::string& name, const std::string& text) {
+    WriteFileAtomic(data_dir_ / "files" / name, text);
+    return data_dir_ / "files" / name;
+  }
+};
+
+TEST_F(LoomCliTest, UnreachableServerIsExitCode4) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  const CliRun run = Loom("server-info", "127.0.0.1:1");
+  EXPECT_EQ(run.exit_code, 4) << run.output;
+  EXPECT_NE(run.output.find("GetServerInfo"), std::string::npos) << run.output;
+}
+
+TEST_F(LoomCliTest, BadSpecIsExitCode2NamingTheFieldAndUnknownJobIs3) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  const auto scene = Write("scene.json", R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "colour": 1}]})");
+  CliRun run = Loom("render " + scene.string() + " -o " + (data_dir_ / "f.png").string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("scene.objects[0].colour: unknown field"), std::string::npos) << run.output;
+
+  run = Loom("jobs show no-such-job");
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+}
+
+TEST_F(LoomCliTest, CancelledJobIsExitCode6) {
+  ServerOptions options;
+  options.local_workers = 0;  // the job stays queued until cancelled
+  StartServer(options);
+  const auto fabric = Write("fabric.json", R"({"knit": {}})");
+  const auto settings = Write("settings.json", SpecToJson(TinySettings()));
+  const CliRun submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
+                             " --no-wait");
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
+  const std::string id = nlohmann::json::parse(submitted.output)["job"]["id"];
+  EXPECT_EQ(Loom("jobs cancel " + id).exit_code, 0);
+  const CliRun watched = Loom("jobs watch " + id);
+  EXPECT_EQ(watched.exit_code, 6) << watched.output;
+  EXPECT_NE(watched.output.find("cancelled"), std::string::npos) << watched.output;
+}
+
+TEST_F(LoomCliTest, RenderUploadsTheObjMeshAndWritesTheFrame) {
+  StartServer();
+  // A unit quad with UVs, as an OBJ next to the scene.
+  Write("quad.obj",
+        "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n");
+  v1::SceneSpec scene = TinyScene(48, 32);
+  scene.mutable_objects(0)->mutable_mesh()->set_obj_path("quad.obj");
+  scene.mutable_render()->clear_format();
+  const auto scene_path = Write("scene.json", SpecToJson(scene));
+  const auto frame = data_dir_ / "out" / "frame.png";
+  const CliRun run = Loom("render " + scene_path.string() + " -o " + frame.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("uploaded 1 mesh"), std::string::npos) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(frame));
+  // The second time the server has the mesh: nothing is uploaded.
+  const CliRun again = Loom("render " + scene_path.string() + " -o " + frame.string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(again.output.find("uploaded"), std::string::npos) << again.output;
+}
+
+}  // namespace
+}  // namespace loom::server

@@ -1,0 +1,246 @@
+// The job service end to end in one process: client calls over loopback gRPC, the
+// server's queue and cache, in-process or standalone workers rendering on llvmpipe.
+
+#include <gmock/gmock.h>
+#include <grpcpp/client_context.h>
+#include <gtest/gtest.h>
+
+#include <future>
+#include <set>
+#include <thread>
+
+#include "core/fit/fabric_asset.h"
+#include "core/image/image.h"
+#include "core/render/scene_render.h"
+#include "core/spec/defaults.h"
+#include "core/spec/fabric_key.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+#include "rpc/artifact_transfer.h"
+#include "rpc/channel.h"
+#include "tests/server/service_fixture.h"
+#include "worker/worker_loop.h"
+
+namespace loom::server {
+namespace {
+
+using ::testing::HasSubstr;
+
+v1::Job WaitUntilEnded(client::JobClient& client, const std::string& id) {
+  return client.Watch(id, [](const v1::JobEvent&) {});
+}
+
+rpc::ChannelOptions Channel(const LoomServer& server, const std::string& token) {
+  rpc::ChannelOptions channel;
+  channel.address = server.address();
+  channel.token = token;
+  return channel;
+}
+
+std::unique_ptr<v1::LoomService::Stub> RawStub(const LoomServer& server, const std::string& token) {
+  return v1::LoomService::NewStub(rpc::MakeChannel(Channel(server, token)));
+}
+
+grpc::Status RawSubmit(v1::LoomService::Stub& stub, const v1::SubmitJobRequest& request) {
+  grpc::ClientContext context;
+  v1::SubmitJobResponse response;
+  return stub.SubmitJob(&context, request, &response);
+}
+
+int JobCount(client::JobClient& client, v1::JobKind kind = v1::JOB_KIND_UNSPECIFIED) {
+  v1::ListJobsRequest request;
+  if (kind != v1::JOB_KIND_UNSPECIFIED) request.add_kinds(kind);
+  request.set_page_size(1000);
+  return client.List(request).jobs_size();
+}
+
+Image ReadImageBytes(const std::string& bytes, const std::string& name) {
+  const auto path = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "-" + name);
+  WriteFileAtomic(path, bytes);
+  Image image = ReadImage(path);
+  std::filesystem::remove(path);
+  return image;
+}
+
+TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
+  StartServer();
+  client::JobClient client = Client();
+  const v1::SubmitJobResponse submitted = client.Submit(PrecomputeRequest());
+  EXPECT_EQ(submitted.job().fabric_key(), FabricKey(KnitFabric(), TinySettings()));
+
+  const v1::Job done = WaitUntilEnded(client, submitted.job().id());
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.result_artifacts_size(), 3);
+  const v1::GetFabricResponse fabric = client.GetFabric(done.fabric_key());
+  std::set<std::string> names;
+  for (const v1::ArtifactRef& file : fabric.fabric().files()) names.insert(file.name());
+  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
+  EXPECT_THAT(fabric.manifest_json(), HasSubstr(done.fabric_key()));
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
+TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
+  StartServer();
+  client::JobClient client = Client();
+  const v1::SceneSpec scene = TinyScene();
+  const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
+  ASSERT_EQ(submitted.dependencies_size(), 1);  // the fabric was not cached
+  ASSERT_EQ(submitted.job().depends_on(0), submitted.dependencies(0).id());
+  const v1::Job done = WaitUntilEnded(client, submitted.job().id());
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  ASSERT_EQ(done.result_artifacts_size(), 1);
+  const Image served = ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
+
+  // The core render of the same scene with the same (cached) fitted fabric.
+  const auto asset = data_dir_ / "asset-copy";
+  const std::string key = FabricKey(KnitFabric(), TinySettings());
+  client.DownloadFabric(key, asset);
+  const FittedFabric fit = ReadFabricAsset(asset);
+  const v1::SceneSpec full = WithDefaults(scene);
+  const auto context = gl::EglContext::Create();
+  SvbrdfRenderer renderer(*context);
+  const Image core = RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, &fit}}).image;
+  const auto core_path = data_dir_ / "core.exr";
+  WriteImage(core, core_path);  // the same half-float quantisation as the served frame
+  const Image expected = ReadImage(core_path);
+
+  ASSERT_EQ(served.width, 64);
+  ASSERT_EQ(served.height, 48);
+  ASSERT_EQ(served.pixels.size(), expected.pixels.size());
+  float max_difference = 0.0f;
+  for (size_t i = 0; i < served.pixels.size(); ++i) {
+    max_difference = std::max(max_difference, std::abs(served.pixels[i] - expected.pixels[i]));
+  }
+  EXPECT_EQ(max_difference, 0.0f) << "served frame differs from the core render";
+}
+
+TEST_F(ServiceTest, MissingOrWrongTokenIsUnauthenticatedAndStoresNothing) {
+  ServerOptions options;
+  options.client_token = "client-secret";
+  options.worker_token = "worker-secret";
+  options.local_workers = 0;
+  StartServer(options);
+  for (const std::string token : {"", "wrong", "worker-secret"}) {
+    const grpc::Status status = RawSubmit(*RawStub(*server_, token), PrecomputeRequest());
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << "token '" << token << "'";
+  }
+  // Worker calls with the client token are refused as well.
+  auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(*server_, "client-secret")));
+  grpc::ClientContext context;
+  v1::LeaseJobRequest lease;
+  lease.set_worker_id("w");
+  v1::LeaseJobResponse leased;
+  EXPECT_EQ(worker->LeaseJob(&context, lease, &leased).error_code(), grpc::StatusCode::UNAUTHENTICATED);
+
+  client::JobClient client = Client("client-secret");
+  EXPECT_EQ(JobCount(client), 0);
+  EXPECT_EQ(client.ServerInfo().queued_jobs(), 0u);
+}
+
+TEST_F(ServiceTest, BadRequestsAreInvalidArgumentNamingTheFieldAndStoreNothing) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  auto stub = RawStub(*server_, "");
+  auto expect_invalid = [&](const v1::SubmitJobRequest& request, const std::string& field) {
+    const grpc::Status status = RawSubmit(*stub, request);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << field << ": " << status.error_message();
+    EXPECT_THAT(status.error_message(), HasSubstr(field));
+  };
+
+  v1::SubmitJobRequest unknown = RenderRequest(TinyScene());
+  v1::Camera& camera = *unknown.mutable_render()->mutable_scene()->mutable_camera();
+  camera.GetReflection()->MutableUnknownFields(&camera)->AddVarint(99, 1);
+  expect_invalid(unknown, "request.render.scene.camera: unknown field number 99");
+
+  expect_invalid(RenderRequest(TinyScene(10000, 48)), "scene.render.width");
+
+  v1::SubmitJobRequest bad_settings = PrecomputeRequest();
+  bad_settings.mutable_precompute()->mutable_settings()->set_spatial_resolution(48);
+  expect_invalid(bad_settings, "precompute.spatial_resolution");
+
+  v1::SceneSpec client_path = TinyScene();
+  client_path.mutable_objects(0)->mutable_mesh()->set_obj_path("/etc/passwd");
+  expect_invalid(RenderRequest(client_path), "scene.objects[0].mesh.obj_path");
+
+  // An uploaded mesh that is not an OBJ: refused at submit, naming the object.
+  const std::string garbage = "v 1 2\nf 1 2 3 4 5\nthis is not an OBJ\n";
+  v1::UploadArtifactRequest::Header header;
+  *header.mutable_artifact() = rpc::MakeArtifactRef("mesh.obj", garbage);
+  rpc::UploadArtifact(*stub, header, garbage);
+  v1::SceneSpec bad_mesh = TinyScene();
+  bad_mesh.mutable_objects(0)->mutable_mesh()->set_artifact(header.artifact().sha256());
+  expect_invalid(RenderRequest(bad_mesh), "cloth");
+
+  v1::SceneSpec missing_mesh = TinyScene();
+  missing_mesh.mutable_objects(0)->mutable_mesh()->set_artifact(std::string(64, 'a'));
+  EXPECT_EQ(RawSubmit(*stub, RenderRequest(missing_mesh)).error_code(), grpc::StatusCode::NOT_FOUND);
+
+  // Over the message cap: refused by gRPC before any handler runs.
+  v1::SubmitJobRequest huge = RenderRequest(TinyScene());
+  huge.mutable_render()->mutable_scene()->set_name(std::string(rpc::kMaxMessageBytes + 1, 'x'));
+  EXPECT_EQ(RawSubmit(*stub, huge).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+
+  client::JobClient client = Client();
+  EXPECT_EQ(JobCount(client), 0);
+}
+
+TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
+  ServerOptions options;
+  options.local_workers = 0;  // everything is queued before any work starts
+  StartServer(options);
+  std::vector<std::future<v1::SubmitJobResponse>> submitted;
+  for (int i = 0; i < 20; ++i) {
+    submitted.push_back(std::async(std::launch::async, [this] { return Client().Submit(RenderRequest(TinyScene(32, 24))); }));
+  }
+  std::set<std::string> precomputes;
+  std::vector<std::string> renders;
+  for (auto& response : submitted) {
+    const v1::SubmitJobResponse r = response.get();
+    ASSERT_EQ(r.job().depends_on_size(), 1);
+    precomputes.insert(r.job().depends_on(0));
+    renders.push_back(r.job().id());
+  }
+  EXPECT_EQ(precomputes.size(), 1u);
+  client::JobClient client = Client();
+  EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
+
+  // A standalone worker over TCP runs all 21 jobs.
+  worker::WorkerOptions worker_options;
+  worker_options.lease_wait = std::chrono::milliseconds(500);
+  worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker_options);
+  std::thread thread([&worker] { worker.Run(); });
+  for (const std::string& id : renders) EXPECT_EQ(WaitUntilEnded(client, id).state(), v1::JOB_STATE_SUCCEEDED);
+  worker.Stop();
+  thread.join();
+  EXPECT_EQ(worker.completed_jobs(), 21u);
+  EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
+}
+
+TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
+  StartServer();
+  client::JobClient client = Client();
+  v1::SubmitJobRequest request = PrecomputeRequest();
+  // Big enough to still be running when the cancel arrives.
+  request.mutable_precompute()->mutable_settings()->set_spatial_resolution(32);
+  request.mutable_precompute()->mutable_settings()->set_view_directions(64);
+  request.mutable_precompute()->mutable_settings()->set_light_directions(64);
+  const std::string id = client.Submit(request).job().id();
+
+  bool cancelled = false;
+  const v1::Job ended = client.Watch(id, [&](const v1::JobEvent& event) {
+    if (!cancelled && event.job().state() == v1::JOB_STATE_RUNNING) {
+      EXPECT_TRUE(Client().Cancel(id).cancel_requested());
+      cancelled = true;
+    }
+  });
+  EXPECT_TRUE(cancelled);
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_CANCELLED);
+  std::string log;
+  for (const std::string& line : client.Log(id)) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("cancelled on request")) << log;  // the worker's own report
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+}
+
+}  // namespace
+}  // namespace loom::server

@@ -1,0 +1,538 @@
+#include "server/store/job_queue.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <latch>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "store_test_util.h"
+
+namespace loom::server {
+namespace {
+
+using std::chrono::steady_clock;
+
+const std::string kFabricKey(64, 'a');
+// "w<n>", spelt out: GCC 12's -Wrestrict misfires on "w" + std::to_string(n).
+std::string Worker(int n) {
+  std::string name = "w";
+  name += std::to_string(n);
+  return name;
+}
+
+const std::string kHash = "2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824";
+
+v1::Job Render(int32_t priority = 0, std::vector<std::string> depends_on = {}, std::string request_id = "") {
+  v1::Job job;
+  job.set_kind(v1::JOB_KIND_RENDER);
+  job.set_priority(priority);
+  job.mutable_render()->mutable_scene()->set_name("scene");
+  for (auto& id : depends_on) job.add_depends_on(id);
+  job.set_client_request_id(request_id);
+  return job;
+}
+
+v1::PrecomputeJob PrecomputePayload() {
+  v1::PrecomputeJob payload;
+  payload.mutable_fabric()->mutable_knit();
+  return payload;
+}
+
+JobFilter Kinds(std::vector<v1::JobKind> kinds) {
+  JobFilter filter;
+  filter.kinds = std::move(kinds);
+  return filter;
+}
+
+JobFilter States(std::vector<v1::JobState> states) {
+  JobFilter filter;
+  filter.states = std::move(states);
+  return filter;
+}
+
+class JobQueueTest : public ::testing::Test {
+ protected:
+  JobQueueTest() : dir_(FreshDataDir()) { Reopen(); }
+
+  void Reopen(JobQueueOptions options = {}) {
+    queue_.reset();
+    options.lease_duration_ms = 30'000;
+    options.stuck_after_ms = 300'000;
+    queue_ = std::make_unique<JobQueue>(dir_, clock_, options);
+  }
+
+  JobLease MustLease(const std::string& worker) {
+    auto lease = queue_->Lease(worker);
+    if (!lease) throw std::runtime_error("no job leasable for " + worker);
+    return *lease;
+  }
+
+  int64_t CountJobs() { return queue_->List({}, 1000, "").jobs.size(); }
+
+  std::filesystem::path dir_;
+  FakeClock clock_;
+  std::unique_ptr<JobQueue> queue_;
+};
+
+TEST_F(JobQueueTest, HigherPriorityFirstThenFifo) {
+  const auto a = queue_->Submit(Render(0)).id();
+  const auto b = queue_->Submit(Render(5)).id();
+  const auto c = queue_->Submit(Render(0)).id();
+  const auto d = queue_->Submit(Render(5)).id();
+  std::vector<std::string> order;
+  while (auto lease = queue_->Lease("w1")) order.push_back(lease->job.id());
+  EXPECT_EQ(order, (std::vector<std::string>{b, d, a, c}));
+}
+
+TEST_F(JobQueueTest, LeaseSetsStateAttemptsWorkerAndIncreasingTokens) {
+  const auto submitted = queue_->Submit(Render());
+  EXPECT_EQ(submitted.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(submitted.max_attempts(), 3u);
+  EXPECT_EQ(submitted.timings().submitted_ms(), clock_.NowMs());
+  queue_->Submit(Render());
+  const JobLease first = MustLease("w1");
+  const JobLease second = MustLease("w2");
+  EXPECT_EQ(first.job.state(), v1::JOB_STATE_LEASED);
+  EXPECT_EQ(first.job.attempts(), 1u);
+  EXPECT_EQ(first.job.worker_id(), "w1");
+  EXPECT_EQ(first.deadline_ms, clock_.NowMs() + 30'000);
+  EXPECT_GT(second.token, first.token);
+  EXPECT_FALSE(queue_->Lease("w3").has_value());
+}
+
+TEST_F(JobQueueTest, ClientRequestIdMakesSubmitIdempotent) {
+  const auto first = queue_->Submit(Render(0, {}, "req-1"));
+  const auto again = queue_->Submit(Render(0, {}, "req-1"));
+  EXPECT_EQ(again.id(), first.id());
+  EXPECT_EQ(again.client_request_id(), "req-1");
+  auto different = Render(0, {}, "req-1");
+  different.mutable_render()->mutable_scene()->set_name("other scene");
+  EXPECT_LOOM_ERROR(queue_->Submit(different), ErrorCode::kInvalidArgument, "req-1");
+  EXPECT_NE(queue_->Submit(Render(0, {}, "req-2")).id(), first.id());
+  EXPECT_EQ(CountJobs(), 2);
+}
+
+TEST_F(JobQueueTest, ConcurrentPrecomputeOnceCreatesOneJob) {
+  constexpr int kThreads = 20;
+  std::latch start(kThreads);
+  std::vector<std::string> ids(kThreads);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < kThreads; ++i) {
+    threads.emplace_back([&, i] {
+      start.arrive_and_wait();
+      ids[i] = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0).id();
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(std::set<std::string>(ids.begin(), ids.end()).size(), 1u);
+  const auto page = queue_->List(Kinds({v1::JOB_KIND_PRECOMPUTE}), 100, "");
+  ASSERT_EQ(page.jobs.size(), 1u);
+  EXPECT_EQ(page.jobs[0].fabric_key(), kFabricKey);
+  EXPECT_TRUE(page.jobs[0].has_precompute());
+}
+
+TEST_F(JobQueueTest, PrecomputeOnceJoinsActiveRaisesPriorityAndNeverJoinsFinished) {
+  const auto first = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 1);
+  const auto joined = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 7);
+  EXPECT_EQ(joined.id(), first.id());
+  EXPECT_EQ(joined.priority(), 7);
+  EXPECT_EQ(queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 2).priority(), 7);
+  const auto other_key = queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'b'), 0);
+  EXPECT_NE(other_key.id(), first.id());
+
+  const JobLease lease = MustLease("w1");
+  ASSERT_EQ(lease.job.id(), first.id());
+  EXPECT_EQ(queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0).id(), first.id());  // leased
+  queue_->Complete(first.id(), lease.token, {kHash});
+  // SUCCEEDED is not joined: the caller asks after a cache miss (evicted or corrupt fabric).
+  const auto rerun = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
+  EXPECT_NE(rerun.id(), first.id());
+  EXPECT_EQ(rerun.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_LOOM_ERROR(queue_->SubmitPrecomputeOnce(PrecomputePayload(), "not-a-key", 0),
+                    ErrorCode::kInvalidArgument, "fabric_key");
+}
+
+TEST_F(JobQueueTest, RenderWaitsUntilEveryDependencySucceeded) {
+  const auto p1 = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
+  const auto p2 = queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'b'), 0);
+  const auto render = queue_->Submit(Render(10, {p1.id(), p2.id()}));
+  EXPECT_EQ(render.depends_on_size(), 2);
+  EXPECT_EQ(queue_->Depth().ready, 2);
+
+  const JobLease l1 = MustLease("w1");
+  const JobLease l2 = MustLease("w1");
+  EXPECT_EQ(l1.job.id(), p1.id());  // the render has the higher priority but is not ready
+  EXPECT_EQ(l2.job.id(), p2.id());
+  queue_->Complete(p1.id(), l1.token, {kHash});
+  EXPECT_FALSE(queue_->Lease("w1").has_value());
+  queue_->Complete(p2.id(), l2.token, {kHash});
+  EXPECT_EQ(MustLease("w1").job.id(), render.id());
+}
+
+TEST_F(JobQueueTest, FailedOrCancelledDependencyFailsDependantsNamingIt) {
+  auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
+  const auto render = queue_->Submit(Render(0, {precompute.id()}));
+  const auto second_level = queue_->Submit(Render(0, {render.id()}));
+  for (const char* worker : {"w1", "w2", "w3"}) {
+    const JobLease lease = MustLease(worker);
+    queue_->Fail(precompute.id(), lease.token, "fit diverged");
+  }
+  EXPECT_EQ(queue_->Get(precompute.id()).state(), v1::JOB_STATE_FAILED);
+  const auto failed = queue_->Get(render.id());
+  EXPECT_EQ(failed.state(), v1::JOB_STATE_FAILED);
+  EXPECT_NE(failed.error().find("dependency " + precompute.id() + " failed: fit diverged"), std::string::npos)
+      << failed.error();
+  EXPECT_EQ(queue_->Get(second_level.id()).state(), v1::JOB_STATE_FAILED);
+  EXPECT_NE(queue_->Get(second_level.id()).error().find("dependency " + render.id()), std::string::npos);
+
+  // Submitting against an already failed dependency fails at once.
+  const auto late = queue_->Submit(Render(0, {precompute.id()}));
+  EXPECT_EQ(late.state(), v1::JOB_STATE_FAILED);
+  EXPECT_NE(late.error().find(precompute.id()), std::string::npos);
+
+  // Cancellation cascades the same way.
+  const auto other = queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'c'), 0);
+  const auto waiting = queue_->Submit(Render(0, {other.id()}));
+  queue_->Cancel(other.id());
+  EXPECT_EQ(queue_->Get(waiting.id()).state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(queue_->Get(waiting.id()).error(), "dependency " + other.id() + " was cancelled");
+  EXPECT_FALSE(queue_->Lease("w9").has_value());
+}
+
+TEST_F(JobQueueTest, ExpiredLeaseIsRequeuedAndItsTokenRefused) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  clock_.Advance(20'000);
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.5, "fit"), HeartbeatStatus::kOk);  // deadline now +30 s
+  clock_.Advance(29'999);
+  EXPECT_EQ(queue_->RequeueExpired(), 0);
+  clock_.Advance(1);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  const auto requeued = queue_->Get(id);
+  EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(requeued.worker_id(), "");
+  EXPECT_NE(requeued.error().find("lease expired: worker w1"), std::string::npos) << requeued.error();
+
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.6, "fit"), HeartbeatStatus::kStaleToken);
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}), ErrorCode::kFailedPrecondition, "stale");
+  EXPECT_LOOM_ERROR(queue_->Fail(id, lease.token, "late"), ErrorCode::kFailedPrecondition, "stale");
+  EXPECT_LOOM_ERROR(queue_->CheckLease(id, lease.token), ErrorCode::kFailedPrecondition, "stale");
+
+  const JobLease again = MustLease("w2");
+  EXPECT_EQ(again.job.attempts(), 2u);
+  EXPECT_GT(again.token, lease.token);
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}), ErrorCode::kFailedPrecondition, "newer lease");
+  EXPECT_EQ(queue_->Complete(id, again.token, {kHash}).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_LOOM_ERROR(queue_->Complete(id, again.token, {kHash}), ErrorCode::kFailedPrecondition, "SUCCEEDED");
+}
+
+TEST_F(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token + 1, 0.1, "x"), HeartbeatStatus::kStaleToken);
+  queue_->CheckLease(id, lease.token);
+  EXPECT_LOOM_ERROR(queue_->CheckLease(id, lease.token + 1), ErrorCode::kFailedPrecondition, "stale");
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.25, "acquisition: view 16/64"), HeartbeatStatus::kOk);
+  const auto running = queue_->Get(id);
+  EXPECT_EQ(running.state(), v1::JOB_STATE_RUNNING);
+  EXPECT_DOUBLE_EQ(running.progress().fraction(), 0.25);
+  EXPECT_EQ(running.progress().stage(), "acquisition: view 16/64");
+  EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, 1.5, "x"), ErrorCode::kInvalidArgument, "[0, 1]");
+  EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, std::nan(""), "x"), ErrorCode::kInvalidArgument, "[0, 1]");
+  const auto done = queue_->Complete(id, lease.token, {kHash});
+  EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(done.result_artifacts_size(), 1);
+  EXPECT_EQ(done.result_artifacts(0), kHash);
+  EXPECT_EQ(done.timings().finished_ms(), clock_.NowMs());
+}
+
+TEST_F(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
+  const auto id = queue_->Submit(Render()).id();
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    const JobLease lease = MustLease(Worker(attempt));
+    const auto after = queue_->Fail(id, lease.token, "error " + std::to_string(attempt));
+    EXPECT_EQ(after.state(), attempt < 3 ? v1::JOB_STATE_QUEUED : v1::JOB_STATE_FAILED);
+    EXPECT_EQ(after.attempts(), static_cast<uint32_t>(attempt));
+  }
+  const auto failed = queue_->Get(id);
+  EXPECT_EQ(failed.error(), "error 3 (worker w3)");
+  EXPECT_FALSE(queue_->Lease("w4").has_value());
+}
+
+TEST_F(JobQueueTest, ExpiryCountsAsAnAttempt) {
+  auto job = Render();
+  job.set_max_attempts(1);
+  const auto id = queue_->Submit(job).id();
+  MustLease("w1");
+  clock_.Advance(30'000);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  EXPECT_EQ(queue_->Get(id).state(), v1::JOB_STATE_FAILED);
+  EXPECT_NE(queue_->Get(id).error().find("lease expired"), std::string::npos);
+}
+
+TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgain) {
+  const auto id = queue_->Submit(Render()).id();
+  queue_->Fail(id, MustLease("w1").token, "out of GPU memory");
+  EXPECT_FALSE(queue_->Lease("w1").has_value());
+  const JobLease other = MustLease("w2");
+  EXPECT_EQ(other.job.id(), id);
+  EXPECT_EQ(other.job.error(), "out of GPU memory (worker w1)");
+}
+
+TEST_F(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  // Heartbeats keep the lease alive, but with the same progress for 300 s.
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.5, "fit level 0"), HeartbeatStatus::kOk);
+    EXPECT_EQ(queue_->RequeueExpired(), 0);
+    clock_.Advance(29'000);
+  }
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.5, "fit level 0"), HeartbeatStatus::kOk);
+  clock_.Advance(10'000);  // 300 s since the lease began, progress never moved
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  const auto requeued = queue_->Get(id);
+  EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_NE(requeued.error().find("stuck: no progress for 300 s on worker w1"), std::string::npos)
+      << requeued.error();
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.6, "fit level 1"), HeartbeatStatus::kStaleToken);
+}
+
+TEST_F(JobQueueTest, MovingProgressIsNotStuck) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  for (int i = 1; i <= 20; ++i) {
+    clock_.Advance(29'000);
+    EXPECT_EQ(queue_->Heartbeat(id, lease.token, i / 100.0, "fit"), HeartbeatStatus::kOk);
+    EXPECT_EQ(queue_->RequeueExpired(), 0);
+  }
+  EXPECT_EQ(queue_->Get(id).state(), v1::JOB_STATE_RUNNING);
+}
+
+TEST_F(JobQueueTest, CancelQueuedJobEndsItAtOnce) {
+  const auto id = queue_->Submit(Render()).id();
+  const auto cancelled = queue_->Cancel(id);
+  EXPECT_EQ(cancelled.state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_FALSE(queue_->Lease("w1").has_value());
+  EXPECT_LOOM_ERROR(queue_->Cancel(id), ErrorCode::kFailedPrecondition, "already CANCELLED");
+}
+
+TEST_F(JobQueueTest, CancelRunningJobReachesWorkerAtNextHeartbeat) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.1, "render"), HeartbeatStatus::kOk);
+  const auto requested = queue_->Cancel(id);
+  EXPECT_EQ(requested.state(), v1::JOB_STATE_RUNNING);
+  EXPECT_TRUE(requested.cancel_requested());
+  EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.2, "render"), HeartbeatStatus::kCancelRequested);
+  const auto ended = queue_->Fail(id, lease.token, "stopped: cancel requested");
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(ended.attempts(), 1u);
+  EXPECT_LOOM_ERROR(queue_->Cancel(id), ErrorCode::kFailedPrecondition, "already CANCELLED");
+}
+
+TEST_F(JobQueueTest, CompleteAfterCancelRequestEndsCancelled) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  queue_->Cancel(id);
+  const auto ended = queue_->Complete(id, lease.token, {kHash});
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(ended.result_artifacts_size(), 0);
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}), ErrorCode::kFailedPrecondition, "stale");
+}
+
+TEST_F(JobQueueTest, ExpiredLeaseWithCancelRequestEndsCancelled) {
+  const auto id = queue_->Submit(Render()).id();
+  MustLease("w1");
+  queue_->Cancel(id);
+  clock_.Advance(30'000);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  EXPECT_EQ(queue_->Get(id).state(), v1::JOB_STATE_CANCELLED);
+}
+
+TEST_F(JobQueueTest, ReopenKeepsEveryJobAndRequeuesLeasedOnes) {
+  const auto queued = queue_->Submit(Render(1)).id();
+  const auto running = queue_->Submit(Render(5)).id();
+  const auto done = queue_->Submit(Render(3)).id();
+  const JobLease lease = MustLease("w1");
+  ASSERT_EQ(lease.job.id(), running);
+  queue_->Heartbeat(running, lease.token, 0.4, "render");
+  const JobLease done_lease = MustLease("w1");
+  queue_->Complete(done, done_lease.token, {kHash});
+  queue_->AppendLog(queued, "a worker line");
+
+  Reopen();  // the server restarts
+  EXPECT_EQ(CountJobs(), 3);
+  EXPECT_EQ(queue_->Get(queued).state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(queue_->Get(done).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(queue_->Get(done).result_artifacts(0), kHash);
+  const auto requeued = queue_->Get(running);
+  EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(requeued.attempts(), 1u);
+  EXPECT_NE(requeued.error().find("server restarted"), std::string::npos);
+  EXPECT_EQ(queue_->Log(queued, 0).back(), "a worker line");
+
+  EXPECT_EQ(queue_->Heartbeat(running, lease.token, 0.5, "render"), HeartbeatStatus::kStaleToken);
+  EXPECT_LOOM_ERROR(queue_->Complete(running, lease.token, {kHash}), ErrorCode::kFailedPrecondition, "stale");
+  const JobLease fresh = MustLease("w1");
+  EXPECT_EQ(fresh.job.id(), running);
+  EXPECT_GT(fresh.token, done_lease.token);  // tokens keep growing across restarts
+}
+
+TEST_F(JobQueueTest, FourWorkersCompleteTwoHundredJobsEachExactlyOnce) {
+  constexpr int kJobs = 200;
+  for (int i = 0; i < kJobs; ++i) queue_->Submit(Render(i % 3));
+  std::mutex mu;
+  std::map<std::string, int> completions;
+  std::vector<std::thread> workers;
+  for (int w = 0; w < 4; ++w) {
+    workers.emplace_back([&, w] {
+      const std::string worker = Worker(w);
+      while (auto lease = queue_->Lease(worker)) {
+        queue_->Heartbeat(lease->job.id(), lease->token, 0.5, "render");
+        queue_->Complete(lease->job.id(), lease->token, {kHash});
+        std::lock_guard lock(mu);
+        ++completions[lease->job.id()];
+      }
+    });
+  }
+  for (auto& worker : workers) worker.join();
+  EXPECT_EQ(completions.size(), static_cast<size_t>(kJobs));
+  for (const auto& [id, count] : completions) EXPECT_EQ(count, 1) << id;
+  const QueueDepth depth = queue_->Depth();
+  EXPECT_EQ(depth.Count(v1::JOB_STATE_SUCCEEDED), kJobs);
+  EXPECT_EQ(depth.Count(v1::JOB_STATE_QUEUED), 0);
+  for (const auto& job : queue_->List({}, 1000, "").jobs) EXPECT_EQ(job.attempts(), 1u) << job.id();
+}
+
+TEST_F(JobQueueTest, LeaseWaitWakesOnSubmitAndOnShutdown) {
+  EXPECT_FALSE(queue_->LeaseWait("w1", steady_clock::now()).has_value());  // deadline passed: no wait
+
+  std::optional<JobLease> got;
+  std::thread waiter([&] { got = queue_->LeaseWait("w1", steady_clock::now() + std::chrono::minutes(5)); });
+  const auto id = queue_->Submit(Render()).id();
+  waiter.join();  // returns because of the submit, not the deadline
+  ASSERT_TRUE(got.has_value());
+  EXPECT_EQ(got->job.id(), id);
+
+  std::optional<JobLease> none = JobLease{};
+  std::thread idle([&] { none = queue_->LeaseWait("w1", steady_clock::now() + std::chrono::minutes(5)); });
+  queue_->Shutdown();
+  idle.join();
+  EXPECT_FALSE(none.has_value());
+}
+
+TEST_F(JobQueueTest, WaitForChangeSeesChangesToTheWatchedJob) {
+  const auto a = queue_->Submit(Render()).id();
+  const auto b = queue_->Submit(Render()).id();
+  const uint64_t seen = queue_->Version();
+  const auto past = steady_clock::now();
+  EXPECT_FALSE(queue_->WaitForChange(a, seen, past).has_value());
+  queue_->AppendLog(b, "b moved");
+  EXPECT_FALSE(queue_->WaitForChange(a, seen, past).has_value());  // another job changed
+  EXPECT_EQ(queue_->WaitForChange("", seen, past), queue_->Version());
+
+  std::optional<uint64_t> woke;
+  std::thread watcher([&] { woke = queue_->WaitForChange(a, seen, steady_clock::now() + std::chrono::minutes(5)); });
+  queue_->AppendLog(a, "a moved");
+  watcher.join();
+  ASSERT_TRUE(woke.has_value());
+  EXPECT_GT(*woke, seen);
+  EXPECT_LOOM_ERROR(queue_->WaitForChange("job-999", 0, past), ErrorCode::kNotFound, "job-999");
+}
+
+TEST_F(JobQueueTest, ListPagesNewestFirstWithFilters) {
+  std::vector<std::string> ids;
+  for (int i = 0; i < 5; ++i) {
+    ids.push_back(i % 2 ? queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'a' + i), 0).id()
+                        : queue_->Submit(Render()).id());
+  }
+  const auto first = queue_->List({}, 2, "");
+  ASSERT_EQ(first.jobs.size(), 2u);
+  EXPECT_EQ(first.jobs[0].id(), ids[4]);
+  EXPECT_EQ(first.jobs[1].id(), ids[3]);
+  queue_->Submit(Render());  // a new job does not shift later pages
+  const auto second = queue_->List({}, 2, first.next_page_token);
+  ASSERT_EQ(second.jobs.size(), 2u);
+  EXPECT_EQ(second.jobs[0].id(), ids[2]);
+  const auto third = queue_->List({}, 2, second.next_page_token);
+  ASSERT_EQ(third.jobs.size(), 1u);
+  EXPECT_EQ(third.jobs[0].id(), ids[0]);
+  EXPECT_EQ(third.next_page_token, "");
+
+  const auto precomputes = queue_->List(Kinds({v1::JOB_KIND_PRECOMPUTE}), 0, "");
+  ASSERT_EQ(precomputes.jobs.size(), 2u);
+  EXPECT_EQ(precomputes.jobs[0].id(), ids[3]);
+  queue_->Cancel(ids[0]);
+  const auto cancelled = queue_->List(States({v1::JOB_STATE_CANCELLED, v1::JOB_STATE_FAILED}), 0, "");
+  ASSERT_EQ(cancelled.jobs.size(), 1u);
+  EXPECT_EQ(cancelled.jobs[0].id(), ids[0]);
+  EXPECT_LOOM_ERROR(queue_->List({}, 2, "bogus"), ErrorCode::kInvalidArgument, "bogus");
+}
+
+TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  queue_->AppendLog(id, "loading scene");
+  queue_->AppendLog(id, "rendering");
+  queue_->Complete(id, lease.token, {kHash});
+  const auto log = queue_->Log(id, 0);
+  ASSERT_EQ(log.size(), 5u);
+  EXPECT_EQ(log[0], "[queue] submitted");
+  EXPECT_EQ(log[1], "[queue] leased by worker w1 (attempt 1 of 3)");
+  EXPECT_EQ(log[2], "loading scene");
+  EXPECT_EQ(log[3], "rendering");
+  EXPECT_EQ(log[4], "[queue] SUCCEEDED");
+  EXPECT_EQ(queue_->Log(id, 3), (std::vector<std::string>{"rendering", "[queue] SUCCEEDED"}));
+  EXPECT_TRUE(queue_->Log(id, 5).empty());
+  EXPECT_LOOM_ERROR(queue_->Log(id, -1), ErrorCode::kInvalidArgument, "negative");
+}
+
+TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
+  const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
+  queue_->Submit(Render(0, {precompute.id()}));
+  queue_->Submit(Render());
+  const auto cancelled = queue_->Submit(Render());
+  queue_->Cancel(cancelled.id());
+  MustLease("w1");
+  const QueueDepth depth = queue_->Depth();
+  EXPECT_EQ(depth.Count(v1::JOB_STATE_QUEUED), 2);
+  EXPECT_EQ(depth.Count(v1::JOB_STATE_LEASED), 1);
+  EXPECT_EQ(depth.Count(v1::JOB_STATE_CANCELLED), 1);
+  EXPECT_EQ(depth.ready, 1);  // the render waiting on the precompute is not ready
+}
+
+TEST_F(JobQueueTest, BadInputIsRefusedAndNothingStoredChanges) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  EXPECT_LOOM_ERROR(queue_->Get("job-42"), ErrorCode::kNotFound, "job-42");
+  EXPECT_LOOM_ERROR(queue_->Get(""), ErrorCode::kNotFound, "no job ''");
+  EXPECT_LOOM_ERROR(queue_->Get("job-01"), ErrorCode::kNotFound, "job-01");
+  EXPECT_LOOM_ERROR(queue_->Cancel("nope"), ErrorCode::kNotFound, "nope");
+  EXPECT_LOOM_ERROR(queue_->Heartbeat("job-42", 1, 0, ""), ErrorCode::kNotFound, "job-42");
+  EXPECT_LOOM_ERROR(queue_->AppendLog("job-42", "x"), ErrorCode::kNotFound, "job-42");
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {""}), ErrorCode::kInvalidArgument, "result_artifacts[0]");
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash, "ABC"}), ErrorCode::kInvalidArgument,
+                    "result_artifacts[1]");
+  EXPECT_LOOM_ERROR(queue_->Lease(""), ErrorCode::kInvalidArgument, "worker_id");
+
+  v1::Job no_payload;
+  no_payload.set_kind(v1::JOB_KIND_RENDER);
+  EXPECT_LOOM_ERROR(queue_->Submit(no_payload), ErrorCode::kInvalidArgument, "payload");
+  EXPECT_LOOM_ERROR(queue_->Submit(v1::Job()), ErrorCode::kInvalidArgument, "JOB_KIND_UNSPECIFIED");
+  auto too_many = Render();
+  too_many.set_max_attempts(1000);
+  EXPECT_LOOM_ERROR(queue_->Submit(too_many), ErrorCode::kInvalidArgument, "max_attempts");
+  EXPECT_LOOM_ERROR(queue_->Submit(Render(0, {id, "job-77"}, "req")), ErrorCode::kNotFound, "job-77");
+
+  EXPECT_EQ(CountJobs(), 1);
+  queue_->CheckLease(id, lease.token);  // the lease survived the bad calls
+  EXPECT_EQ(queue_->Complete(id, lease.token, {kHash}).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(queue_->Submit(Render(0, {}, "req")).state(), v1::JOB_STATE_QUEUED);  // "req" was not taken
+}
+
+}  // namespace
+}  // namespace loom::server

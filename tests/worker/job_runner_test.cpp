@@ -1,0 +1,71 @@
+// The worker's job execution without the RPC around it: one EGL context, a
+// precompute to asset files and back, a render to an encoded frame.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/image/image.h"
+#include "core/spec/fabric_key.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+#include "tests/server/tiny_specs.h"
+#include "worker/job_runner.h"
+
+namespace loom::worker {
+namespace {
+
+v1::PrecomputeJob TinyPrecompute() {
+  v1::PrecomputeJob job;
+  *job.mutable_fabric() = server::KnitFabric();
+  *job.mutable_settings() = server::TinySettings();
+  return job;
+}
+
+TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
+  JobRunner runner(gl::DefaultContextOptions());
+  const std::string key = FabricKey(server::KnitFabric(), server::TinySettings());
+  double last_fraction = 0.0;
+  const std::vector<NamedFile> files =
+      runner.Precompute(TinyPrecompute(), key, [&](double fraction, std::string_view) { last_fraction = fraction; });
+  std::set<std::string> names;
+  for (const NamedFile& file : files) names.insert(file.name);
+  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
+  EXPECT_DOUBLE_EQ(last_fraction, 1.0);
+
+  const FittedFabric fit = runner.ReadAsset(files);
+  v1::RenderJob render;
+  *render.mutable_scene() = server::TinyScene(40, 30);
+  render.mutable_scene()->mutable_render()->clear_format();  // unspecified: PNG
+  const NamedFile frame = runner.Render(render, FileMeshResolver("."), {{key, &fit}});
+  EXPECT_EQ(frame.name, "frame.png");
+  const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + ".png");
+  WriteFileAtomic(path, frame.bytes);
+  const Image image = ReadImage(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(image.width, 40);
+  EXPECT_EQ(image.height, 30);
+}
+
+TEST(JobRunnerTest, ThrowingFromProgressCancelsAPrecompute) {
+  JobRunner runner(gl::DefaultContextOptions());
+  struct Cancelled {};
+  EXPECT_THROW(runner.Precompute(TinyPrecompute(), "key", [](double, std::string_view) { throw Cancelled{}; }),
+               Cancelled);
+}
+
+TEST(JobRunnerTest, ARenderWithoutItsFabricIsRefusedNamingTheObject) {
+  JobRunner runner(gl::DefaultContextOptions());
+  v1::RenderJob render;
+  *render.mutable_scene() = server::TinyScene(8, 8);
+  try {
+    runner.Render(render, FileMeshResolver("."), {});
+    FAIL() << "rendered without a fitted fabric";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kFailedPrecondition);
+    EXPECT_NE(std::string(error.what()).find("cloth"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace loom::worker

@@ -1,0 +1,64 @@
+#pragma once
+// What a render worker does with a leased job, without the RPC around it: a
+// precompute becomes the fabric asset's files, a render becomes the frame file.
+// Owns the worker's one EGL context (made once, reused for every job) and its
+// svbrdf renderer (shader programs compiled once), and a scratch directory for the
+// asset and image files core reads and writes.
+//
+// Not thread-safe: one job at a time, on the thread that made the runner (the
+// context is current there).
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/gl/egl_context.h"
+#include "core/precompute/fabric_precompute.h"
+#include "core/render/scene_render.h"
+#include "core/scene/scene_geometry.h"
+#include "loom/v1/job.pb.h"
+
+namespace loom::worker {
+
+// One file of a job's result (or of a fabric asset it reads).
+struct NamedFile {
+  std::string name;  // "parameters.exr", "lut.exr", "manifest.json", "frame.png", "frame.exr"
+  std::string bytes;
+};
+
+class JobRunner {
+ public:
+  // Makes the EGL context; Error(kUnavailable) listing every attempt when none
+  // can be made.
+  explicit JobRunner(const gl::ContextOptions& options);
+  ~JobRunner();
+  JobRunner(const JobRunner&) = delete;
+  JobRunner& operator=(const JobRunner&) = delete;
+
+  const gl::DeviceInfo& device() const { return context_->info(); }
+
+  // The fabric asset of `job` (core/fit/fabric_asset.h) as files, keyed
+  // `fabric_key`. `progress` is core's callback: throwing from it cancels.
+  std::vector<NamedFile> Precompute(const v1::PrecomputeJob& job, const std::string& fabric_key,
+                                    const PrecomputeProgress& progress);
+
+  // A fabric asset's files back into the fit (checksums verified).
+  FittedFabric ReadAsset(const std::vector<NamedFile>& files);
+
+  // The frame of `job`, encoded as its scene's format says (unspecified: PNG), by
+  // the scene's method: svbrdf on the context, or the reference ray tracer.
+  // `meshes` resolves uploaded mesh artifacts; for svbrdf, `fits` holds every
+  // fabric the scene names (core/render/scene_render.h).
+  NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits);
+
+ private:
+  std::filesystem::path NewScratchPath(const std::string& stem);
+
+  std::unique_ptr<gl::EglContext> context_;
+  std::unique_ptr<SvbrdfRenderer> renderer_;
+  std::filesystem::path scratch_;
+  uint64_t next_scratch_ = 0;
+};
+
+}  // namespace loom::worker
