@@ -60,7 +60,10 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     while (!context->IsCancelled() && !state_.draining) {
       const auto slice = std::min(deadline, std::chrono::steady_clock::now() + 1s);
       std::optional<JobLease> lease = state_.queue.LeaseWait(request->worker_id(), slice);
-      if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) continue;
+      if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) {
+        response->clear_fabrics();
+        continue;
+      }
       if (lease) {
         spdlog::info("job {}: leased by {} (attempt {})", lease->job.id(), request->worker_id(),
                      lease->job.attempts());

@@ -217,15 +217,19 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
 }
 
-TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
-  StartServer();
-  client::JobClient client = Client();
+// A precompute big enough to still be running when a test interrupts it.
+v1::SubmitJobRequest SlowPrecomputeRequest() {
   v1::SubmitJobRequest request = PrecomputeRequest();
-  // Big enough to still be running when the cancel arrives.
   request.mutable_precompute()->mutable_settings()->set_spatial_resolution(32);
   request.mutable_precompute()->mutable_settings()->set_view_directions(64);
   request.mutable_precompute()->mutable_settings()->set_light_directions(64);
-  const std::string id = client.Submit(request).job().id();
+  return request;
+}
+
+TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
+  StartServer();
+  client::JobClient client = Client();
+  const std::string id = client.Submit(SlowPrecomputeRequest()).job().id();
 
   bool cancelled = false;
   const v1::Job ended = client.Watch(id, [&](const v1::JobEvent& event) {
@@ -240,6 +244,37 @@ TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
   for (const std::string& line : client.Log(id)) log += line + "\n";
   EXPECT_THAT(log, HasSubstr("cancelled on request")) << log;  // the worker's own report
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+}
+
+TEST_F(ServiceTest, AStoppingWorkerHandsItsPrecomputeBack) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  client::JobClient client = Client();
+  const std::string id = client.Submit(SlowPrecomputeRequest()).job().id();
+  worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker::WorkerOptions{});
+  std::thread thread([&worker] { worker.Run(); });
+
+  // Once the job runs on the worker, stop the worker (what SIGTERM does in loom-worker).
+  auto stub = RawStub(*server_, "");
+  grpc::ClientContext context;
+  v1::WatchJobRequest watch;
+  watch.set_job_id(id);
+  const auto reader = stub->WatchJob(&context, watch);
+  v1::JobEvent event;
+  while (reader->Read(&event) && event.job().state() != v1::JOB_STATE_RUNNING) {
+  }
+  ASSERT_EQ(event.job().state(), v1::JOB_STATE_RUNNING);
+  context.TryCancel();
+  reader->Finish();
+  worker.Stop();
+  thread.join();
+
+  const v1::Job job = client.Get(id);
+  EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED);  // requeued for another worker
+  EXPECT_EQ(job.attempts(), 1u);
+  EXPECT_THAT(job.error(), HasSubstr("handed back"));
+  EXPECT_EQ(worker.completed_jobs(), 0u);
 }
 
 }  // namespace
