@@ -40,7 +40,7 @@ void CheckArtifactHash(std::string_view hash, std::string_view what = "artifact 
 
 // A streaming upload: Append chunks, then Commit. Destroying an uncommitted
 // writer (or a failed Commit) removes its temp file. Not thread-safe itself;
-// any number of writers may run at once.
+// any number of writers may run at once. Must not outlive its store.
 class ArtifactWriter {
  public:
   ArtifactWriter(ArtifactWriter&&) noexcept;

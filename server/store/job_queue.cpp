@@ -192,8 +192,10 @@ class JobQueue::Txn {
 
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
-  if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap) {
-    throw Error(ErrorCode::kInvalidArgument, "default_max_attempts must be in [1, 100]");
+  if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
+      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
   }
   db_->Exec(kSchema);
   {
