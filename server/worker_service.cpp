@@ -132,7 +132,9 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (artifact.name() == "manifest.json") manifest_json = state_.artifacts.Read(artifact.sha256());
     }
     AppendLog(state_.queue, id, request->log_lines());
-    if (job.kind() == v1::JOB_KIND_PRECOMPUTE) {
+    // A cancelled job's results are dropped (Complete ends it CANCELLED): its fabric
+    // is not cached.
+    if (job.kind() == v1::JOB_KIND_PRECOMPUTE && !job.cancel_requested()) {
       if (manifest_json.empty()) throw Error(ErrorCode::kInvalidArgument, "artifacts: no manifest.json");
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }
