@@ -24,6 +24,7 @@ Error FromStatus(const grpc::Status& status, std::string_view call) {
     case grpc::StatusCode::NOT_FOUND: return Error(ErrorCode::kNotFound, message);
     case grpc::StatusCode::UNAVAILABLE:
     case grpc::StatusCode::DEADLINE_EXCEEDED:
+    case grpc::StatusCode::CANCELLED:  // the server cancelled the call: it is shutting down
       return Error(ErrorCode::kUnavailable, message + " (is loom-server running and reachable?)");
     case grpc::StatusCode::UNAUTHENTICATED:
       return Error(ErrorCode::kFailedPrecondition, message + " (check the token: LOOM_TOKEN or --token-file)");

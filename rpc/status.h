@@ -5,7 +5,8 @@
 //
 //   kInvalidArgument    <-> INVALID_ARGUMENT (also OUT_OF_RANGE, DATA_LOSS received)
 //   kNotFound           <-> NOT_FOUND
-//   kUnavailable        <-> UNAVAILABLE (also DEADLINE_EXCEEDED received)
+//   kUnavailable        <-> UNAVAILABLE (also DEADLINE_EXCEEDED, and CANCELLED by a
+//                           server shutting down, received)
 //   kFailedPrecondition <-> FAILED_PRECONDITION (also UNAUTHENTICATED, ABORTED,
 //                           RESOURCE_EXHAUSTED, ALREADY_EXISTS received)
 //   kInternal           <-> INTERNAL (and everything else)

@@ -23,7 +23,7 @@ grpc::Status Guard(const grpc::ServerContext& context, const std::string& token,
                    Body&& body) {
   if (!token.empty() && !rpc::HasBearerToken(context, token)) {
     spdlog::warn("{} from {}: missing or wrong bearer token", call, context.peer());
-    return {grpc::StatusCode::UNAUTHENTICATED, std::string(call) + ": missing or wrong bearer token"};
+    return {grpc::StatusCode::UNAUTHENTICATED, "missing or wrong bearer token"};
   }
   try {
     body();

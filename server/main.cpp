@@ -30,8 +30,9 @@ int Main(int argc, char** argv) {
   options.listen = rpc::kDefaultServerAddress;
   std::string data, client_token_file, worker_token_file;
   bool software = false;
-  app.add_option("--data", data, "Data directory: job queue, artifacts, fabric cache (created if missing)")
-      ->required();
+  // Required, but checked after parsing (server/loom_server.cpp) so that an unknown
+  // flag is reported as such rather than as a missing --data.
+  app.add_option("--data", data, "Data directory: job queue, artifacts, fabric cache (created if missing; required)");
   app.add_option("--listen", options.listen, "Address to serve on (host:port; port 0 picks one)")
       ->capture_default_str();
   app.add_option("--local-workers", options.local_workers, "In-process render workers (0: remote workers only)")

@@ -60,7 +60,10 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     while (!context->IsCancelled() && !state_.draining) {
       const auto slice = std::min(deadline, std::chrono::steady_clock::now() + 1s);
       std::optional<JobLease> lease = state_.queue.LeaseWait(request->worker_id(), slice);
-      if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) continue;
+      if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) {
+        response->clear_fabrics();
+        continue;
+      }
       if (lease) {
         spdlog::info("job {}: leased by {} (attempt {})", lease->job.id(), request->worker_id(),
                      lease->job.attempts());
@@ -129,7 +132,9 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (artifact.name() == "manifest.json") manifest_json = state_.artifacts.Read(artifact.sha256());
     }
     AppendLog(state_.queue, id, request->log_lines());
-    if (job.kind() == v1::JOB_KIND_PRECOMPUTE) {
+    // A cancelled job's results are dropped (Complete ends it CANCELLED): its fabric
+    // is not cached.
+    if (job.kind() == v1::JOB_KIND_PRECOMPUTE && !job.cancel_requested()) {
       if (manifest_json.empty()) throw Error(ErrorCode::kInvalidArgument, "artifacts: no manifest.json");
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }

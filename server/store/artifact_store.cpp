@@ -36,6 +36,11 @@ constexpr const char* kNextUse = "(SELECT COALESCE(MAX(use_seq), 0) + 1 FROM art
   throw Error(code, what + ": " + std::strerror(errno));
 }
 
+// Filesystem failures (disk full, permissions) as loom::Error, like every other failure.
+void CheckFilesystem(const std::error_code& ec, const std::string& what) {
+  if (ec) throw Error(ErrorCode::kUnavailable, what + ": " + ec.message());
+}
+
 }  // namespace
 
 void CheckArtifactHash(std::string_view hash, std::string_view what) {
@@ -118,15 +123,21 @@ std::string ArtifactWriter::Commit(std::string_view expected_sha256) {
 
 ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, ArtifactStoreOptions options)
     : options_(options), artifacts_dir_(data_dir / "artifacts"), tmp_dir_(data_dir / "tmp") {
-  std::filesystem::create_directories(artifacts_dir_);
-  // Temp files are only ever half-written uploads of a previous process.
-  std::filesystem::remove_all(tmp_dir_);
-  std::filesystem::create_directories(tmp_dir_);
+  // The database first: its lock keeps a second process from emptying our tmp dir.
   db_ = std::make_unique<SqliteDb>(data_dir / "cache.db");
+  std::error_code ec;
+  std::filesystem::create_directories(artifacts_dir_, ec);
+  CheckFilesystem(ec, "cannot create " + artifacts_dir_.string());
+  // Temp files are only ever half-written uploads of a previous process.
+  std::filesystem::remove_all(tmp_dir_, ec);
+  CheckFilesystem(ec, "cannot empty " + tmp_dir_.string());
+  std::filesystem::create_directories(tmp_dir_, ec);
+  CheckFilesystem(ec, "cannot create " + tmp_dir_.string());
   db_->Exec(kSchema);
   std::vector<std::string> vanished;
   for (auto rows = db_->Query("SELECT hash FROM artifacts"); rows.Step();) {
-    if (!std::filesystem::exists(PathOf(rows.Text(0)))) vanished.push_back(rows.Text(0));
+    std::error_code missing;
+    if (!std::filesystem::exists(PathOf(rows.Text(0)), missing)) vanished.push_back(rows.Text(0));
   }
   for (const auto& hash : vanished) ForgetLocked(hash);
 }
@@ -162,8 +173,9 @@ std::string ArtifactStore::Put(std::string_view bytes) {
 
 void ArtifactStore::AddCommitted(const std::filesystem::path& temp_path, const std::string& hash, uint64_t size) {
   std::lock_guard lock(mu_);
+  std::error_code ec;
   if (HasLocked(hash)) {
-    std::filesystem::remove(temp_path);
+    std::filesystem::remove(temp_path, ec);
     TouchLocked(hash);
     return;
   }
@@ -173,14 +185,17 @@ void ArtifactStore::AddCommitted(const std::filesystem::path& temp_path, const s
   db_->Run(std::string("INSERT OR REPLACE INTO artifacts (hash, size, use_seq) VALUES (?, ?, ") + kNextUse + ")",
            hash, size);
   const auto path = PathOf(hash);
-  std::filesystem::create_directories(path.parent_path());
-  std::filesystem::rename(temp_path, path);
+  std::filesystem::create_directories(path.parent_path(), ec);
+  CheckFilesystem(ec, "cannot create " + path.parent_path().string());
+  std::filesystem::rename(temp_path, path, ec);
+  CheckFilesystem(ec, "cannot move " + temp_path.string() + " to " + path.string());
   txn.Commit();
 }
 
 bool ArtifactStore::HasLocked(const std::string& hash) {
   if (!db_->Query("SELECT 1 FROM artifacts WHERE hash = ?", hash).Step()) return false;
-  if (std::filesystem::exists(PathOf(hash))) return true;
+  std::error_code ec;
+  if (std::filesystem::exists(PathOf(hash), ec)) return true;
   ForgetLocked(hash);
   return false;
 }

@@ -40,7 +40,7 @@ void CheckArtifactHash(std::string_view hash, std::string_view what = "artifact 
 
 // A streaming upload: Append chunks, then Commit. Destroying an uncommitted
 // writer (or a failed Commit) removes its temp file. Not thread-safe itself;
-// any number of writers may run at once.
+// any number of writers may run at once. Must not outlive its store.
 class ArtifactWriter {
  public:
   ArtifactWriter(ArtifactWriter&&) noexcept;
@@ -67,8 +67,8 @@ class ArtifactWriter {
 };
 
 struct ArtifactStoreOptions {
-  // Evict() keeps the total size of unpinned + pinned artifacts at or under this
-  // (as far as unpinned ones allow). 0: no limit.
+  // --cache-bytes: Evict() (and FabricCache::Evict()) bring the total size of all
+  // artifacts down to this, as far as pins allow. 0: no limit.
   uint64_t budget_bytes = 0;
 };
 
@@ -87,8 +87,8 @@ class ArtifactStore {
   std::string Put(std::string_view bytes);
   ArtifactWriter NewWriter();
 
-  // The verified bytes. Missing: kNotFound. Corrupt: deleted, then kNotFound saying so.
-  // Marks the artifact as most recently used.
+  // The verified bytes (the whole artifact in memory). Missing: kNotFound.
+  // Corrupt: deleted, then kNotFound saying so. Marks the artifact as most recently used.
   std::string Read(std::string_view hash);
   // Read's check without returning the bytes: false if missing or corrupt (deleted).
   bool Verify(std::string_view hash);

@@ -117,6 +117,11 @@ std::string JoinLines(const std::vector<std::string>& lines) {
   return joined;
 }
 
+// The error of a job whose dependency `id` ended in `state` (FAILED or CANCELLED).
+std::string DependencyError(const std::string& id, JobState state, const std::string& error) {
+  return "dependency " + id + (state == v1::JOB_STATE_FAILED ? " failed: " + error : " was cancelled");
+}
+
 std::string Seconds(int64_t ms) { return std::to_string(ms / 1000) + " s"; }
 
 }  // namespace
@@ -145,6 +150,17 @@ struct JobQueue::Row {
 
   std::string id() const { return JobId(seq); }
   bool leased() const { return state == v1::JOB_STATE_LEASED || state == v1::JOB_STATE_RUNNING; }
+
+  // Rows of `jobs` matching `where` (SQL after FROM jobs), bound to `args`.
+  template <typename... Args>
+  static std::vector<Row> Select(SqliteDb& db, std::string_view where, const Args&... args) {
+    std::vector<Row> rows;
+    for (auto query = db.Query(std::string("SELECT ") + kRowColumns + " FROM jobs " + std::string(where), args...);
+         query.Step();) {
+      rows.push_back(Read(query));
+    }
+    return rows;
+  }
 
   static Row Read(const Statement& s) {
     Row row;
@@ -192,8 +208,10 @@ class JobQueue::Txn {
 
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
-  if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap) {
-    throw Error(ErrorCode::kInvalidArgument, "default_max_attempts must be in [1, 100]");
+  if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
+      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
   }
   db_->Exec(kSchema);
   {
@@ -204,13 +222,8 @@ JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, Jo
   // Leases held before a restart are void: their workers talk to a new process.
   Txn txn(*this);
   const int64_t now = clock_.NowMs();
-  std::vector<Row> leased;
-  for (auto rows = db_->Query(std::string("SELECT ") + kRowColumns + " FROM jobs WHERE state IN (?, ?)",
-                              static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING));
-       rows.Step();) {
-    leased.push_back(Row::Read(rows));
-  }
-  for (const Row& row : leased) {
+  for (const Row& row : Row::Select(*db_, "WHERE state IN (?, ?)", static_cast<int>(v1::JOB_STATE_LEASED),
+                                    static_cast<int>(v1::JOB_STATE_RUNNING))) {
     EndAttempt(row, "server restarted while the job was leased by worker " + row.worker_id, now);
   }
   txn.Commit();
@@ -223,9 +236,9 @@ JobQueue::~JobQueue() = default;
 std::optional<JobQueue::Row> JobQueue::FindRow(const std::string& id) const {
   const auto seq = ParseJobId(id);
   if (!seq) return std::nullopt;
-  auto query = db_->Query(std::string("SELECT ") + kRowColumns + " FROM jobs WHERE seq = ?", *seq);
-  if (!query.Step()) return std::nullopt;
-  return Row::Read(query);
+  auto rows = Row::Select(*db_, "WHERE seq = ?", *seq);
+  if (rows.empty()) return std::nullopt;
+  return std::move(rows.front());
 }
 
 JobQueue::Row JobQueue::RequireRow(const std::string& id) const {
@@ -313,10 +326,7 @@ v1::Job JobQueue::InsertJob(const v1::Job& job, int64_t now_ms) {
   WriteLog(seq, "[queue] submitted");
   for (const Row& dep : deps) {
     if (dep.state == v1::JOB_STATE_FAILED || dep.state == v1::JOB_STATE_CANCELLED) {
-      Finish(*FindRow(JobId(seq)), v1::JOB_STATE_FAILED,
-             "dependency " + dep.id() + " " + (dep.state == v1::JOB_STATE_FAILED ? "failed: " + dep.error
-                                                                                  : "was cancelled"),
-             now_ms);
+      Finish(*FindRow(JobId(seq)), v1::JOB_STATE_FAILED, DependencyError(dep.id(), dep.state, dep.error), now_ms);
       break;
     }
   }
@@ -348,22 +358,17 @@ void JobQueue::Finish(const Row& row, JobState state, const std::string& error, 
       static_cast<int>(state), error, now_ms, row.seq);
   WriteLog(row.seq, "[queue] " + StateName(state) + (error.empty() ? "" : ": " + error));
   if (state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED) {
-    FailDependants(row, state == v1::JOB_STATE_FAILED ? "failed: " + error : "was cancelled", now_ms);
+    FailDependants(row.seq, DependencyError(row.id(), state, error), now_ms);
   }
 }
 
-void JobQueue::FailDependants(const Row& dependency, const std::string& reason, int64_t now_ms) {
-  std::vector<Row> dependants;
-  for (auto query = db_->Query(std::string("SELECT ") + kRowColumns +
-                                   " FROM jobs WHERE state IN (?, ?, ?) AND seq IN "
-                                   "(SELECT job_seq FROM job_deps WHERE dep_seq = ?)",
-                               static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_LEASED),
-                               static_cast<int>(v1::JOB_STATE_RUNNING), dependency.seq);
-       query.Step();) {
-    dependants.push_back(Row::Read(query));
-  }
+void JobQueue::FailDependants(int64_t dependency_seq, const std::string& error, int64_t now_ms) {
+  const auto dependants =
+      Row::Select(*db_, "WHERE state IN (?, ?, ?) AND seq IN (SELECT job_seq FROM job_deps WHERE dep_seq = ?)",
+                  static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_LEASED),
+                  static_cast<int>(v1::JOB_STATE_RUNNING), dependency_seq);
   for (const Row& dependant : dependants) {
-    Finish(dependant, v1::JOB_STATE_FAILED, "dependency " + dependency.id() + " " + reason, now_ms);
+    Finish(dependant, v1::JOB_STATE_FAILED, error, now_ms);
   }
 }
 
@@ -537,15 +542,10 @@ v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string&
 int JobQueue::RequeueExpired() {
   Txn txn(*this);
   const int64_t now = clock_.NowMs();
-  std::vector<Row> ended;
-  for (auto query = db_->Query(std::string("SELECT ") + kRowColumns +
-                                   " FROM jobs WHERE state IN (?, ?) AND (lease_deadline_ms <= ? OR "
-                                   "progress_moved_ms <= ?) ORDER BY seq",
-                               static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING),
-                               now, now - options_.stuck_after_ms);
-       query.Step();) {
-    ended.push_back(Row::Read(query));
-  }
+  const auto ended = Row::Select(
+      *db_, "WHERE state IN (?, ?) AND (lease_deadline_ms <= ? OR progress_moved_ms <= ?) ORDER BY seq",
+      static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING), now,
+      now - options_.stuck_after_ms);
   for (const Row& row : ended) {
     const std::string reason =
         row.lease_deadline_ms <= now
@@ -595,7 +595,7 @@ JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string
     for (size_t i = 0; i < n; ++i) text += i ? ", ?" : "?";
     return text;
   };
-  std::string sql = std::string("SELECT ") + kRowColumns + " FROM jobs WHERE 1";
+  std::string sql = std::string("SELECT ") + kRowColumns + " FROM jobs WHERE 1";  // bound one by one below
   if (!filter.states.empty()) sql += " AND state IN (" + placeholders(filter.states.size()) + ")";
   if (!filter.kinds.empty()) sql += " AND kind IN (" + placeholders(filter.kinds.size()) + ")";
   if (before) sql += " AND seq < ?";

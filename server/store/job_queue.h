@@ -203,7 +203,8 @@ class JobQueue {
   std::optional<JobLease> LeaseLocked(const std::string& worker_id);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
   void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
-  void FailDependants(const Row& dependency, const std::string& reason, int64_t now_ms);
+  // Ends every unfinished job depending on `dependency_seq` FAILED with `error`, transitively.
+  void FailDependants(int64_t dependency_seq, const std::string& error, int64_t now_ms);
   void WriteLog(int64_t seq, const std::string& line);
   void Touch(int64_t seq);  // bumps version_ and the job's version
 

@@ -1,6 +1,12 @@
 #include "server/store/sqlite_db.h"
 
+#include <fcntl.h>
 #include <sqlite3.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include "core/util/error.h"
 
@@ -70,12 +76,25 @@ std::string Statement::Text(int column) const {
 }
 
 SqliteDb::SqliteDb(const std::filesystem::path& path) {
-  std::filesystem::create_directories(path.parent_path());
+  std::error_code ec;
+  std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) throw Error(ErrorCode::kUnavailable, "cannot create " + path.parent_path().string() + ": " + ec.message());
+  const std::string lock_path = path.string() + ".lock";
+  lock_fd_ = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0) {
+    throw Error(ErrorCode::kUnavailable, "cannot open " + lock_path + ": " + std::strerror(errno));
+  }
+  if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(lock_fd_);
+    throw Error(ErrorCode::kUnavailable, path.string() +
+                                             " is in use by another process (one loom-server per data directory)");
+  }
   const int rc = sqlite3_open_v2(path.c_str(), &db_,
                                  SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);
   if (rc != SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
     sqlite3_close(db_);
+    ::close(lock_fd_);
     throw Error(ErrorCode::kUnavailable, "cannot open database " + path.string() + ": " + message);
   }
   sqlite3_busy_timeout(db_, 5000);
@@ -83,11 +102,15 @@ SqliteDb::SqliteDb(const std::filesystem::path& path) {
     Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
   } catch (...) {
     sqlite3_close(db_);
+    ::close(lock_fd_);
     throw;
   }
 }
 
-SqliteDb::~SqliteDb() { sqlite3_close(db_); }
+SqliteDb::~SqliteDb() {
+  sqlite3_close(db_);
+  ::close(lock_fd_);
+}
 
 void SqliteDb::Exec(std::string_view sql) {
   const std::string text(sql);

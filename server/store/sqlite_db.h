@@ -1,7 +1,9 @@
 #pragma once
 // A small RAII layer over SQLite for the store: one connection in WAL mode,
 // prepared statements with typed binding, and BEGIN IMMEDIATE transactions that
-// roll back unless committed. Every SQLite failure becomes a loom::Error naming the
+// roll back unless committed. The connection holds an exclusive lock on
+// "<database>.lock" while open: a second server on the same data directory would
+// requeue the first one's leases, so it is refused (kUnavailable) instead. Every SQLite failure becomes a loom::Error naming the
 // statement: kUnavailable for a full disk or an I/O error, kInternal otherwise.
 //
 // Not thread-safe: each owner serialises access with its own mutex.
@@ -60,7 +62,7 @@ class SqliteDb {
  public:
   // Opens or creates `path`, in WAL mode with synchronous=NORMAL: a committed
   // transaction survives a process crash (kill -9); only a power loss may lose the
-  // last ones.
+  // last ones. The lock dies with the process, so a crash never leaves it held.
   explicit SqliteDb(const std::filesystem::path& path);
   ~SqliteDb();
   SqliteDb(const SqliteDb&) = delete;
@@ -97,6 +99,7 @@ class SqliteDb {
   };
 
  private:
+  int lock_fd_ = -1;
   sqlite3* db_ = nullptr;
 };
 

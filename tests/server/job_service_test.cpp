@@ -217,15 +217,19 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
 }
 
-TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
-  StartServer();
-  client::JobClient client = Client();
+// A precompute big enough to still be running when a test interrupts it.
+v1::SubmitJobRequest SlowPrecomputeRequest() {
   v1::SubmitJobRequest request = PrecomputeRequest();
-  // Big enough to still be running when the cancel arrives.
   request.mutable_precompute()->mutable_settings()->set_spatial_resolution(32);
   request.mutable_precompute()->mutable_settings()->set_view_directions(64);
   request.mutable_precompute()->mutable_settings()->set_light_directions(64);
-  const std::string id = client.Submit(request).job().id();
+  return request;
+}
+
+TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
+  StartServer();
+  client::JobClient client = Client();
+  const std::string id = client.Submit(SlowPrecomputeRequest()).job().id();
 
   bool cancelled = false;
   const v1::Job ended = client.Watch(id, [&](const v1::JobEvent& event) {
@@ -240,6 +244,103 @@ TEST_F(ServiceTest, CancelOfARunningJobReachesTheWorker) {
   for (const std::string& line : client.Log(id)) log += line + "\n";
   EXPECT_THAT(log, HasSubstr("cancelled on request")) << log;  // the worker's own report
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+}
+
+TEST_F(ServiceTest, AStoppingWorkerHandsItsPrecomputeBack) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  client::JobClient client = Client();
+  const std::string id = client.Submit(SlowPrecomputeRequest()).job().id();
+  worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker::WorkerOptions{});
+  std::thread thread([&worker] { worker.Run(); });
+
+  // Once the job runs on the worker, stop the worker (what SIGTERM does in loom-worker).
+  auto stub = RawStub(*server_, "");
+  grpc::ClientContext context;
+  v1::WatchJobRequest watch;
+  watch.set_job_id(id);
+  const auto reader = stub->WatchJob(&context, watch);
+  v1::JobEvent event;
+  while (reader->Read(&event) && event.job().state() != v1::JOB_STATE_RUNNING) {
+  }
+  ASSERT_EQ(event.job().state(), v1::JOB_STATE_RUNNING);
+  context.TryCancel();
+  reader->Finish();
+  worker.Stop();
+  thread.join();
+
+  const v1::Job job = client.Get(id);
+  EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED);  // requeued for another worker
+  EXPECT_EQ(job.attempts(), 1u);
+  EXPECT_THAT(job.error(), HasSubstr("handed back"));
+  EXPECT_EQ(worker.completed_jobs(), 0u);
+}
+
+TEST_F(ServiceTest, ACancelledJobThatCompletesAnywayEndsCancelledWithNothingCached) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  client::JobClient client = Client();
+  const std::string id = client.Submit(PrecomputeRequest()).job().id();
+
+  // A worker (by hand) leases the job, the client cancels it, the worker completes it.
+  auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(*server_, "")));
+  v1::LeaseJobResponse leased;
+  {
+    grpc::ClientContext context;
+    v1::LeaseJobRequest lease;
+    lease.set_worker_id("late-worker");
+    lease.set_wait_ms(5000);
+    ASSERT_TRUE(worker->LeaseJob(&context, lease, &leased).ok());
+    ASSERT_EQ(leased.job().id(), id);
+  }
+  EXPECT_TRUE(client.Cancel(id).cancel_requested());
+  v1::CompleteJobRequest complete;
+  complete.set_worker_id("late-worker");
+  complete.set_job_id(id);
+  complete.set_fencing_token(leased.fencing_token());
+  for (const char* name : {"parameters.exr", "lut.exr", "manifest.json"}) {
+    const std::string bytes = std::string("not really ") + name;
+    v1::UploadArtifactRequest::Header header;
+    *header.mutable_artifact() = rpc::MakeArtifactRef(name, bytes);
+    header.set_job_id(id);
+    header.set_fencing_token(leased.fencing_token());
+    *complete.add_artifacts() = rpc::UploadArtifact(*worker, header, bytes);
+  }
+  grpc::ClientContext context;
+  v1::CompleteJobResponse completed;
+  ASSERT_TRUE(worker->CompleteJob(&context, complete, &completed).ok());
+  EXPECT_EQ(client.Get(id).state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+  // The same lease cannot report again.
+  grpc::ClientContext again;
+  EXPECT_EQ(worker->CompleteJob(&again, complete, &completed).error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+}
+
+TEST_F(ServiceTest, ACorruptCachedFabricIsDetectedAndRecomputed) {
+  StartServer();
+  client::JobClient client = Client();
+  const v1::Job first = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(first.state(), v1::JOB_STATE_SUCCEEDED) << first.error();
+  // Flip a byte of the cached lut.exr on disk.
+  std::string lut_hash;
+  const v1::GetFabricResponse cached = client.GetFabric(first.fabric_key());
+  for (const v1::ArtifactRef& file : cached.fabric().files()) {
+    if (file.name() == "lut.exr") lut_hash = file.sha256();
+  }
+  const auto path = data_dir_ / "artifacts" / lut_hash.substr(0, 2) / lut_hash;
+  ASSERT_TRUE(std::filesystem::exists(path)) << path;
+  std::string bytes = ReadFile(path);
+  bytes[bytes.size() / 2] ^= 0x55;
+  WriteFileAtomic(path, bytes);
+
+  // A render needing the fabric finds it corrupt: evicted, precomputed again, rendered.
+  const v1::SubmitJobResponse render = client.Submit(RenderRequest(TinyScene(32, 24)));
+  ASSERT_EQ(render.dependencies_size(), 1);
+  EXPECT_NE(render.dependencies(0).id(), first.id());
+  EXPECT_EQ(WaitUntilEnded(client, render.job().id()).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(client.GetFabric(first.fabric_key()).fabric().files_size(), 3);
 }
 
 }  // namespace

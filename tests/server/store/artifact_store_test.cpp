@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <thread>
 
 #include "core/util/file_io.h"
@@ -95,6 +96,24 @@ TEST_F(ArtifactStoreTest, TempLeftoversOfACrashAreRemovedOnOpen) {
   EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
   EXPECT_TRUE(fs::is_directory(dir_ / "tmp"));
   EXPECT_EQ(store_->Read(Sha256Hex("kept")), "kept");
+}
+
+TEST_F(ArtifactStoreTest, KillDashNineMidUploadLosesOnlyTheUpload) {
+  store_.reset();
+  EXPECT_EXIT(
+      {
+        ArtifactStore server(dir_);
+        server.Put("committed");
+        ArtifactWriter upload = server.NewWriter();
+        upload.Append("half of an upl");
+        std::raise(SIGKILL);
+      },
+      ::testing::KilledBySignal(SIGKILL), "");
+  EXPECT_EQ(CountFiles(dir_ / "tmp"), 1);  // what the crash left
+  Reopen();
+  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(store_->Read(Sha256Hex("committed")), "committed");
+  EXPECT_EQ(store_->TotalBytes(), 9u);
 }
 
 TEST_F(ArtifactStoreTest, CorruptFileIsDetectedRemovedAndReported) {

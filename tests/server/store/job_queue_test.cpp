@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cmath>
 #include <latch>
 #include <map>
@@ -380,6 +381,42 @@ TEST_F(JobQueueTest, ReopenKeepsEveryJobAndRequeuesLeasedOnes) {
   const JobLease fresh = MustLease("w1");
   EXPECT_EQ(fresh.job.id(), running);
   EXPECT_GT(fresh.token, done_lease.token);  // tokens keep growing across restarts
+}
+
+TEST_F(JobQueueTest, SurvivesKillDashNineOfTheServer) {
+  queue_.reset();  // the child process opens the queue itself
+  // The child submits three jobs, leases one (token 1) and finishes another, then
+  // dies by SIGKILL: no destructor, no checkpoint, nothing flushed on the way out.
+  EXPECT_EXIT(
+      {
+        JobQueue server(dir_, clock_);
+        for (int priority : {3, 2, 1}) server.Submit(Render(priority));
+        const auto done = server.Lease("w1");
+        server.Complete(done->job.id(), done->token, {kHash});
+        const auto running = server.Lease("w1");
+        server.Heartbeat(running->job.id(), running->token, 0.5, "render");
+        server.AppendLog(running->job.id(), "half way");
+        std::raise(SIGKILL);
+      },
+      ::testing::KilledBySignal(SIGKILL), "");
+  Reopen();  // the restarted server; the dead one's database lock went with it
+  EXPECT_EQ(CountJobs(), 3);
+  EXPECT_EQ(queue_->Get("job-1").state(), v1::JOB_STATE_SUCCEEDED);
+  const auto requeued = queue_->Get("job-2");
+  EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_NE(requeued.error().find("server restarted"), std::string::npos);
+  EXPECT_EQ(queue_->Log("job-2", 0)[2], "half way");
+  EXPECT_EQ(queue_->Get("job-3").state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(queue_->Heartbeat("job-2", 2, 0.6, "render"), HeartbeatStatus::kStaleToken);
+  const JobLease again = MustLease("w1");
+  EXPECT_EQ(again.job.id(), "job-2");
+  EXPECT_EQ(again.token, 3u);
+}
+
+TEST_F(JobQueueTest, SecondQueueOnTheSameDataDirectoryIsRefused) {
+  EXPECT_LOOM_ERROR(JobQueue(dir_, clock_), ErrorCode::kUnavailable, "in use by another process");
+  queue_->Submit(Render());  // the first one is unaffected
+  EXPECT_EQ(CountJobs(), 1);
 }
 
 TEST_F(JobQueueTest, FourWorkersCompleteTwoHundredJobsEachExactlyOnce) {
