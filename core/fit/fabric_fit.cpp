@@ -59,37 +59,38 @@ FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
 }
 
 // Every raw sample of `texel` of `level` (the level-0 texels it covers, views with
-// alpha > 0) in the texel's local frame.
+// alpha > 0) in the texel's local frame, those of one view and light pooled
+// (texel_fit.h TexelSamples): they share the texel's frame.
 TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& level_data, uint32_t level,
                            size_t texel) {
   const size_t views = samples.view_count(), lights = samples.light_count();
   const TexelFrame frame(level_data.normals[texel], level_data.tangents[texel]);
-  std::vector<glm::vec3> local_views(views), local_lights(lights);
-  for (size_t v = 0; v < views; ++v) local_views[v] = frame.ToLocal(samples.view_directions[v]);
+  std::vector<glm::vec3> local_lights(lights);
   for (size_t l = 0; l < lights; ++l) local_lights[l] = frame.ToLocal(samples.light_directions[l]);
 
   const size_t span = size_t{1} << level;
   const size_t x0 = (texel % level_data.resolution) * span, y0 = (texel / level_data.resolution) * span;
-  auto for_each_child = [&](auto body) {
-    for (size_t y = y0; y < y0 + span; ++y) {
-      for (size_t x = x0; x < x0 + span; ++x) body(y * samples.resolution + x);
-    }
-  };
-  size_t valid = 0;
-  for_each_child([&](size_t child) {
-    for (size_t v = 0; v < views; ++v) valid += samples.alpha[samples.AlphaIndex(child, v)] > 0.0f ? lights : 0;
-  });
+  std::vector<size_t> covered;  // the level-0 texels it covers
+  for (size_t y = y0; y < y0 + span; ++y) {
+    for (size_t x = x0; x < x0 + span; ++x) covered.push_back(y * samples.resolution + x);
+  }
   TexelSamples result(static_cast<uint32_t>(views));
-  result.Reserve(valid);
-  for_each_child([&](size_t child) {
-    for (size_t v = 0; v < views; ++v) {
-      if (!(samples.alpha[samples.AlphaIndex(child, v)] > 0.0f)) continue;
-      const glm::vec3* radiance = &samples.radiance[samples.RadianceIndex(child, v, 0)];
-      for (size_t l = 0; l < lights; ++l) {
-        result.Add(local_lights[l], local_views[v], static_cast<uint32_t>(v), radiance[l]);
-      }
+  result.Reserve(views * lights);
+  std::vector<size_t> seen;  // the covered texels with alpha > 0 for a view
+  std::vector<glm::vec3> pooled;
+  for (size_t v = 0; v < views; ++v) {
+    seen.clear();
+    for (size_t child : covered) {
+      if (samples.alpha[samples.AlphaIndex(child, v)] > 0.0f) seen.push_back(child);
     }
-  });
+    if (seen.empty()) continue;
+    const glm::vec3 local_view = frame.ToLocal(samples.view_directions[v]);
+    for (size_t l = 0; l < lights; ++l) {
+      pooled.clear();
+      for (size_t child : seen) pooled.push_back(samples.radiance[samples.RadianceIndex(child, v, l)]);
+      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled);
+    }
+  }
   return result;
 }
 
@@ -223,13 +224,17 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   // Within a level every (texel, channel) is one work item.
   std::vector<std::vector<std::array<ChannelFit, 3>>> channel_fits(level_count);
   std::vector<double> level_seconds(level_count, 0.0);
-  // Every level covers the same samples, so each is an equal share of the progress.
+  // A level's share of the progress is its share of the texels: with pooled
+  // samples (GatherSamples) a coarse texel costs about what a fine one does.
+  double total_texels = 0.0;
+  for (const FittedLevel& level : fabric.levels) total_texels += double(level.resolution) * level.resolution;
+  double texels_done = 0.0;
   for (uint32_t k = 0; k < level_count; ++k) {
     const Stopwatch level_time;
     const size_t texels = size_t{fabric.levels[k].resolution} * fabric.levels[k].resolution;
     const std::string stage = "fitting level " + std::to_string(k);
     channel_fits[k].resize(texels);
-    if (progress) progress(double(k) / level_count, stage);
+    if (progress) progress(texels_done / total_texels, stage);
     ParallelFor(
         texels * 3, threads,
         [&](size_t item, unsigned) {
@@ -241,8 +246,9 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
           channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, start ? &*start : nullptr);
         },
         [&](size_t done) {
-          if (progress) progress((k + double(done) / (texels * 3)) / level_count, stage);
+          if (progress) progress((texels_done + double(done) / 3) / total_texels, stage);
         });
+    texels_done += double(texels);
     level_seconds[k] = level_time.Seconds();
   }
 

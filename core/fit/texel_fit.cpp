@@ -259,11 +259,29 @@ void TexelSamples::Reserve(size_t count) {
   radiance_.reserve(count);
 }
 
-void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
+void TexelSamples::Push(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::dvec3 radiance, double weight) {
   geometry_.arguments.push_back(MakeLobeArgument(light, view));
-  geometry_.cosines.push_back(std::max(0.0, double{light.z}));
+  geometry_.cosines.push_back(weight * std::max(0.0, double{light.z}));
   geometry_.views.push_back(view_index);
-  radiance_.push_back(radiance);
+  radiance_.push_back(weight * radiance);
+}
+
+void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
+  Push(light, view, view_index, radiance, 1.0);
+  ++raw_count_;
+  radiance_sum_ += glm::dvec3(radiance);
+}
+
+void TexelSamples::AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index,
+                             std::span<const glm::vec3> radiances) {
+  const double n = static_cast<double>(radiances.size());
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& r : radiances) sum += glm::dvec3(r);
+  const glm::dvec3 mean = sum / n;
+  for (const glm::vec3& r : radiances) spread_ += (glm::dvec3(r) - mean) * (glm::dvec3(r) - mean);
+  Push(light, view, view_index, mean, std::sqrt(n));
+  raw_count_ += radiances.size();
+  radiance_sum_ += sum;
 }
 
 std::vector<double> TexelSamples::Channel(int c) const {
@@ -274,12 +292,13 @@ std::vector<double> TexelSamples::Channel(int c) const {
 
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
                            const ChannelStart* start) {
-  const std::vector<double> radiance = samples.Channel(channel);
-  ChannelFit fit = FitChannel(samples.geometry(), radiance, options, start);
-  fit.samples = radiance.size();
-  for (double r : radiance) fit.radiance_sum += r;
+  ChannelFit fit = FitChannel(samples.geometry(), samples.Channel(channel), options, start);
+  fit.squared_error += samples.PooledSpread(channel);
+  fit.samples = samples.raw_count();
+  fit.radiance_sum = samples.RadianceSum(channel);
   return fit;
 }
+
 TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t lobes) {
   TexelFit fit;
   fit.status = TexelFitStatus::kBlack;  // the least; each channel can only raise it
