@@ -8,6 +8,8 @@
 
 #include <Eigen/Dense>
 
+#include "core/fit/lobe_powers.h"
+
 namespace loom {
 
 LobeCost::LobeCost(const TexelGeometry& geometry, const std::vector<double>& radiance, const std::vector<double>& lut,
@@ -24,24 +26,24 @@ void LobeCost::UpdateLobeCache(const double* x) const {
   const size_t parameters = 1 + 4 * lobes_;
   if (cache_valid_ && std::equal(x, x + parameters, cached_x_.begin())) return;
   cached_x_.assign(x, x + parameters);
-  lobe_values_.resize(geometry_.size() * lobes_);
-  lobe_logs_.resize(geometry_.size() * lobes_);
-  for (size_t s = 0; s < geometry_.size(); ++s) {
-    const LobeArgument& a = geometry_.arguments[s];
-    for (uint32_t i = 0; i < lobes_; ++i) {
-      const double* lobe = x + 1 + 4 * i;
-      const double dot = lobe[0] * a.x + lobe[1] * a.y + lobe[2] * a.z;
-      const double log_dot = dot > kMinArgument ? std::log(dot) : 0.0;
-      lobe_values_[s * lobes_ + i] = dot > kMinArgument ? std::exp(lobe[3] * log_dot) : 0.0;
-      lobe_logs_[s * lobes_ + i] = log_dot;
+  const size_t count = geometry_.size();
+  lobe_values_.resize(count * lobes_);
+  lobe_logs_.resize(count * lobes_);
+  dots_.resize(count);
+  for (uint32_t i = 0; i < lobes_; ++i) {
+    const double* lobe = x + 1 + 4 * i;
+    for (size_t s = 0; s < count; ++s) {
+      const LobeArgument& a = geometry_.arguments[s];
+      dots_[s] = lobe[0] * a.x + lobe[1] * a.y + lobe[2] * a.z;
     }
+    LobePowers(dots_.data(), count, lobe[3], kMinArgument, &lobe_logs_[i * count], &lobe_values_[i * count]);
   }
   cache_valid_ = true;
 }
 
-double LobeCost::Residual(const double* x, size_t s) const {
+[[gnu::always_inline]] inline double LobeCost::Residual(const double* x, size_t s) const {
   double f = x[0];
-  for (uint32_t i = 0; i < lobes_; ++i) f += lobe_values_[s * lobes_ + i];
+  for (uint32_t i = 0; i < lobes_; ++i) f += lobe_values_[i * geometry_.size() + s];
   return lut_[geometry_.views[s]] * geometry_.cosines[s] * f - radiance_[s];
 }
 
@@ -72,14 +74,14 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) double LobeCost::Acc
       columns[0][b] = weight;
       for (uint32_t i = 0; i < kLobes; ++i) {
         const double* lobe = x + 1 + 4 * i;
-        const double value = lobe_values_[s * kLobes + i];
+        const double value = lobe_values_[i * count + s];
         const double dot = lobe[0] * a.x + lobe[1] * a.y + lobe[2] * a.z;
         // ∂/∂dot of T·l_z·dot^N, and ∂/∂N; both 0 where the lobe is off (value 0).
         const double d_dot = value > 0.0 ? weight * lobe[3] * value / dot : 0.0;
         columns[1 + 4 * i][b] = d_dot * a.x;
         columns[2 + 4 * i][b] = d_dot * a.y;
         columns[3 + 4 * i][b] = d_dot * a.z;
-        columns[4 + 4 * i][b] = weight * value * lobe_logs_[s * kLobes + i];
+        columns[4 + 4 * i][b] = weight * value * lobe_logs_[i * count + s];
       }
       columns[p][b] = Residual(x, s);
     }
