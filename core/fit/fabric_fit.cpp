@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include "core/spec/defaults.h"
@@ -94,29 +93,29 @@ TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& le
   return result;
 }
 
-// The mean of the fits of a coarse texel's non-empty children, channel c, as the
-// start of its own fit; nullopt if every child is empty.
-std::optional<ChannelStart> ChildrenMean(const std::vector<std::array<ChannelFit, 3>>& children,
-                                         uint32_t child_resolution, size_t texel, int c) {
+// The start candidates of a coarse texel's fit, channel c (texel_fit.h
+// ChannelStart): its non-empty children's fits and their mean; none if every
+// child is empty.
+std::vector<ChannelStart> ChildStarts(const std::vector<std::array<ChannelFit, 3>>& children,
+                                      uint32_t child_resolution, size_t texel, int c) {
   const size_t x = texel % (child_resolution / 2), y = texel / (child_resolution / 2);
-  std::optional<ChannelStart> start;
-  double count = 0;
+  std::vector<ChannelStart> starts(1);  // the mean first
   for (size_t child_y = 2 * y; child_y < 2 * y + 2; ++child_y) {
     for (size_t child_x = 2 * x; child_x < 2 * x + 2; ++child_x) {
       const ChannelFit& child = children[child_y * child_resolution + child_x][c];
-      if (child.status == TexelFitStatus::kEmpty) continue;
-      if (!start) start = ChannelStart{std::vector<double>(child.parameters.size(), 0.0),
-                                       std::vector<double>(child.lut.size(), 0.0)};
-      for (size_t i = 0; i < child.parameters.size(); ++i) start->parameters[i] += child.parameters[i];
-      for (size_t v = 0; v < child.lut.size(); ++v) start->lut[v] += child.lut[v];
-      ++count;
+      if (child.status != TexelFitStatus::kEmpty) starts.push_back({child.parameters, child.lut});
     }
   }
-  if (start) {
-    for (double& value : start->parameters) value /= count;
-    for (double& value : start->lut) value /= count;
+  if (starts.size() == 1) return {};
+  const double count = double(starts.size() - 1);
+  ChannelStart& mean = starts.front();
+  mean.parameters.assign(starts[1].parameters.size(), 0.0);
+  mean.lut.assign(starts[1].lut.size(), 0.0);
+  for (size_t i = 1; i < starts.size(); ++i) {
+    for (size_t j = 0; j < mean.parameters.size(); ++j) mean.parameters[j] += starts[i].parameters[j] / count;
+    for (size_t v = 0; v < mean.lut.size(); ++v) mean.lut[v] += starts[i].lut[v] / count;
   }
-  return start;
+  return starts;
 }
 
 // Stores a texel's combined fit in its level.
@@ -219,9 +218,9 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   fabric.levels.push_back(FinestLevel(samples));
   for (uint32_t k = 1; k < level_count; ++k) fabric.levels.push_back(CoarserLevel(fabric.levels.back(), views));
 
-  // Level by level, finest first: a coarse texel starts from its children's mean
-  // fit (texel_fit.h ChannelStart), which saves about a third of its iterations.
-  // Within a level every (texel, channel) is one work item.
+  // Level by level, finest first: a coarse texel starts from the closest of its
+  // children's fits and their mean (texel_fit.h ChannelStart). Within a level every
+  // (texel, channel) is one work item.
   std::vector<std::vector<std::array<ChannelFit, 3>>> channel_fits(level_count);
   std::vector<double> level_seconds(level_count, 0.0);
   // A level's share of the progress is its share of the texels: with pooled
@@ -241,9 +240,10 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
           const size_t texel = item / 3;
           const int c = static_cast<int>(item % 3);
           const TexelSamples texel_samples = GatherSamples(samples, fabric.levels[k], k, texel);
-          const std::optional<ChannelStart> start =
-              k > 0 ? ChildrenMean(channel_fits[k - 1], fabric.levels[k - 1].resolution, texel, c) : std::nullopt;
-          channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, start ? &*start : nullptr);
+          const std::vector<ChannelStart> starts =
+              k > 0 ? ChildStarts(channel_fits[k - 1], fabric.levels[k - 1].resolution, texel, c)
+                    : std::vector<ChannelStart>();
+          channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, starts);
         },
         [&](size_t done) {
           if (progress) progress((texels_done + double(done) / 3) / total_texels, stage);

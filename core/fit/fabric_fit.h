@@ -17,10 +17,10 @@
 // the nearest non-empty texel of their level, tile-periodically; their alpha stays
 // 0, so a renderer shows the hole, but filtering across it sees sensible values.
 //
-// Work. Levels are fitted finest first, each coarse texel starting from the mean
-// fit of its children (the paper's start stays for level 0). Within a level each
-// (texel, channel) is an independent work item (texel_fit.h), spread over every
-// core by ParallelFor. The result does not depend on the thread count.
+// Work. Levels are fitted finest first, each coarse texel starting from whichever
+// of its children's fits and their mean is closest to its samples (the paper's
+// start stays for level 0). Within a level each (texel, channel) is an
+// independent work item (texel_fit.h), spread over every core by ParallelFor. The result does not depend on the thread count.
 
 #include <cstdint>
 #include <functional>

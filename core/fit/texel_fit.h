@@ -23,7 +23,8 @@
 // Fallbacks. A lobe fit is kept if Ceres returns a usable solution with finite
 // values and its error is no worse than the closed-form diffuse fit (with its own
 // T): anything else failed or diverged, and the channel is refitted with one lobe
-// fewer, down to diffuse only. Dropped lobes stay in the layout with C = 0 (off).
+// fewer, down to diffuse only. Before that, a fit whose table has settled above
+// the diffuse fit's error keeps alternating while that still lowers its error. Dropped lobes stay in the layout with C = 0 (off).
 // A final guard replaces any non-finite value by the diffuse fit, so no NaN or Inf
 // ever leaves this file.
 
@@ -123,16 +124,17 @@ struct ChannelFit {
 
 // A start other than the paper's for the fit with every requested lobe:
 // parameters (LafortuneChannel packing, options.lobes lobes, inside the bounds of
-// lobe_cost.h) and T per view. A mip texel starts from its children's mean fit,
-// which is much closer than the generic start (fallbacks to fewer lobes still use
-// the paper's).
+// lobe_cost.h) and T per view. A mip texel's candidates are its children's fits
+// and their mean, much closer than the generic start; the fit starts from the
+// candidate with the least error on the texel's samples (fallbacks to fewer lobes
+// still use the paper's start).
 struct ChannelStart {
   std::vector<double> parameters;
   std::vector<double> lut;
 };
 
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
-                           const ChannelStart* start = nullptr);
+                           std::span<const ChannelStart> starts = {});
 
 // The start above for one channel's radiance (one value per sample), packed as
 // LafortuneChannel's x.

@@ -209,6 +209,27 @@ TEST(TexelFit, PooledSamplesFitLikeTheRawOnes) {
   }
 }
 
+// A mip texel starts from the closest of its candidates (its children's fits and
+// their mean): from a converged fit among poor candidates, the warm fit is at least
+// as good as the cold one and takes fewer iterations.
+TEST(TexelFit, WarmStartFromTheClosestCandidateIsNoWorseThanCold) {
+  const SyntheticTexel truth(Brighter(TwoLobes()), ColouredLut(), 0.02, 4);
+  const TexelSamples samples = MakeTexelSamples(truth, kDirections, kDirections);
+  const TexelFitOptions options = MakeTexelFitOptions({});
+  for (int c = 0; c < 3; ++c) {
+    const ChannelFit cold = FitTexelChannel(samples, c, options);
+    ASSERT_EQ(cold.status, TexelFitStatus::kOk);
+    ChannelStart far = {cold.parameters, std::vector<double>(kDirections, 1.0)};
+    far.parameters[0] *= 5.0;  // much too bright
+    const ChannelStart off = {{cold.parameters[0], 0, 0, 0, 1, 0, 0, 0, 1}, cold.lut};  // lobes off
+    const std::vector<ChannelStart> starts = {far, off, {cold.parameters, cold.lut}};
+    const ChannelFit warm = FitTexelChannel(samples, c, options, starts);
+    EXPECT_EQ(warm.status, TexelFitStatus::kOk) << "channel " << c;
+    EXPECT_LE(warm.squared_error, cold.squared_error * (1.0 + 1e-9)) << "channel " << c;
+    EXPECT_LT(warm.lm_iterations, cold.lm_iterations) << "channel " << c;
+  }
+}
+
 // --- Pathological texels ---------------------------------------------------------------
 
 TEST(TexelFit, AllZeroRadianceIsBlack) {
