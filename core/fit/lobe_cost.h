@@ -40,8 +40,9 @@
 namespace loom {
 
 // A texel's samples reduced to what the model needs: per sample the lobe argument
-// (l_k v_k in the local frame), the cosine l_z clamped at 0 and the view index.
-// Shared by the three channels.
+// (l_k v_k in the local frame), the cosine l_z clamped at 0 (times √n for a sample
+// pooling n raw ones, texel_fit.h TexelSamples) and the view index. Shared by the
+// three channels.
 struct TexelGeometry {
   uint32_t view_count = 0;
   std::vector<LobeArgument> arguments;
