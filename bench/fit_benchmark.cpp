@@ -1,27 +1,36 @@
 // The fitting engine's figures (issue 4): the standard fabric fit and its
 // speed-versus-accuracy points, and the derivative choice of the lobe fit.
 //
-//   loom_fit_benchmark --benchmark_filter=FitFabric/32/2/1   the standard size
-//   loom_fit_benchmark --benchmark_filter=LobeSolve          analytic vs automatic derivatives
+//   loom_fit_benchmark --benchmark_filter=FitFabric/res:32/lobes:2/lut:1   synthetic, the standard size
+//   loom_fit_benchmark --samples=/tmp/knit.samples --benchmark_filter=FitSamples
+//                                                   real samples (loom-lab acquire), the same figures
+//   loom_fit_benchmark --benchmark_filter=LobeSolve  analytic vs automatic derivatives
 //
-// Input: synthetic radiance samples of a knit-like tile, rendered from known
+// Synthetic input: radiance samples of a knit-like tile, rendered from known
 // per-texel Lafortune BRDFs under a coloured lookup table on bumpy normals, with
-// holes and 2% multiplicative noise (so the fit works as hard as on real samples;
-// acquisition itself is not timed here). Relative RMSE per level is the fit's RMSE
-// over a level's samples divided by their mean radiance; at coarse levels it
-// includes the spread between the pooled texels, which no single BRDF can fit.
+// holes and 2% multiplicative noise. Real input: a samples file, fitted with 1-3
+// lobes, LUT on and off. Acquisition itself is not timed here. Relative RMSE per
+// level is the fit's RMSE over a level's samples divided by their mean radiance; at
+// coarse levels it includes the spread between the pooled texels, which no single
+// BRDF can fit.
 
 #include <benchmark/benchmark.h>
 
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <glm/gtc/constants.hpp>
 #include <random>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "core/acquire/hemisphere_directions.h"
+#include "core/acquire/radiance_samples.h"
 #include "core/fit/fabric_asset.h"
 #include "core/fit/fabric_fit.h"
 #include "core/fit/lobe_cost.h"
@@ -110,13 +119,12 @@ double RenderDifference(const FittedFabric& a, const FittedFabric& b, const Radi
   return std::sqrt(squared / values) / (sum / values);
 }
 
-// Args: resolution, lobes, lookup table (0/1). All mip levels, every core.
-void BM_FitFabric(benchmark::State& state) {
-  double noise_floor = 0.0;
-  const RadianceSamples samples = SyntheticSamples(static_cast<uint32_t>(state.range(0)), &noise_floor);
+// Fits `samples` with `lobes` lobes and the table on or off (all mip levels, every
+// core) and reports the fit's figures as counters.
+void FitAndReport(benchmark::State& state, const RadianceSamples& samples, int64_t lobes, int64_t lut) {
   v1::PrecomputeSettings settings;
-  settings.set_lobes(static_cast<uint32_t>(state.range(1)));
-  settings.set_lookup_table(state.range(2) != 0);
+  settings.set_lobes(static_cast<uint32_t>(lobes));
+  settings.set_lookup_table(lut != 0);
   FittedFabric fabric;
   for (auto _ : state) fabric = FitFabric(samples, settings);
 
@@ -134,33 +142,54 @@ void BM_FitFabric(benchmark::State& state) {
     state.counters["seconds_L" + k] = level.stats.fit_seconds;
     state.counters["fallbacks_L" + k] = level.stats.fewer_lobes + level.stats.diffuse_only;
   }
-  state.counters["noise_floor"] = noise_floor;
-  // The asset as the server caches it (half floats, the default).
-  const std::filesystem::path directory =
-      std::filesystem::temp_directory_path() / ("loom_fit_benchmark_asset_" + std::to_string(::getpid()));
-  WriteFabricAsset(fabric, settings, "benchmark", directory);
-  uintmax_t bytes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(directory)) bytes += entry.file_size();
-  state.counters["asset_bytes"] = double(bytes);
-  state.counters["half_rel_err_L0"] = RenderDifference(fabric, ReadFabricAsset(directory), samples);
-  std::filesystem::remove_all(directory);
+  // The asset as the server caches it, in half floats (the default) and in full
+  // floats, and what half floats cost in rendered radiance.
+  for (const bool half : {true, false}) {
+    settings.set_half_float(half);
+    const std::filesystem::path directory =
+        std::filesystem::temp_directory_path() / ("loom_fit_benchmark_asset_" + std::to_string(::getpid()));
+    WriteFabricAsset(fabric, settings, "benchmark", directory);
+    uintmax_t bytes = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(directory)) bytes += entry.file_size();
+    state.counters[half ? "asset_bytes" : "asset_bytes_float"] = double(bytes);
+    if (half) state.counters["half_rel_err_L0"] = RenderDifference(fabric, ReadFabricAsset(directory), samples);
+    std::filesystem::remove_all(directory);
+  }
   state.counters["texels"] = double(texels);
   state.counters["texels_per_s"] = benchmark::Counter(double(texels), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["lm_iter_per_texel"] = iterations / texels;
   state.counters["alternations"] = alternations / texels;
   state.counters["seconds"] = fabric.seconds;
 }
-BENCHMARK(BM_FitFabric)
-    ->ArgNames({"res", "lobes", "lut"})
-    ->Args({32, 2, 1})  // the standard fabric
-    ->Args({32, 1, 0})
-    ->Args({32, 1, 1})
-    ->Args({32, 2, 0})
-    ->Args({32, 3, 0})
-    ->Args({32, 3, 1})
-    ->Iterations(1)
-    ->UseRealTime()
-    ->Unit(benchmark::kSecond);
+
+// Args: resolution, lobes, lookup table (0/1).
+void BM_FitFabric(benchmark::State& state) {
+  double noise_floor = 0.0;
+  const RadianceSamples samples = SyntheticSamples(static_cast<uint32_t>(state.range(0)), &noise_floor);
+  FitAndReport(state, samples, state.range(1), state.range(2));
+  state.counters["noise_floor"] = noise_floor;
+}
+// The speed-versus-accuracy points: {lobes, lookup table}, the standard first.
+constexpr std::array<std::array<int64_t, 2>, 6> kModels = {{{2, 1}, {1, 0}, {1, 1}, {2, 0}, {3, 0}, {3, 1}}};
+
+void RegisterSyntheticFits() {
+  auto* benchmark = benchmark::RegisterBenchmark("BM_FitFabric", BM_FitFabric);
+  benchmark->ArgNames({"res", "lobes", "lut"});
+  for (const auto& [lobes, lut] : kModels) benchmark->Args({32, lobes, lut});
+  benchmark->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+}
+
+// The samples file is read once, when the first of its benchmarks runs.
+void RegisterSampleFits(const std::string& path) {
+  auto samples = std::make_shared<std::optional<RadianceSamples>>();
+  auto* benchmark = benchmark::RegisterBenchmark("BM_FitSamples", [path, samples](benchmark::State& state) {
+    if (!*samples) *samples = ReadRadianceSamples(path);
+    FitAndReport(state, **samples, state.range(0), state.range(1));
+  });
+  benchmark->ArgNames({"lobes", "lut"});
+  for (const auto& [lobes, lut] : kModels) benchmark->Args({lobes, lut});
+  benchmark->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+}
 
 // --- Analytic vs automatic derivatives for one lobe solve -------------------------------
 
@@ -259,4 +288,24 @@ BENCHMARK(BM_LobeSolve)
 }  // namespace
 }  // namespace loom
 
-BENCHMARK_MAIN();
+// Google Benchmark's main, plus --samples=PATH (a file from loom-lab acquire) for
+// the BM_FitSamples benchmarks.
+int main(int argc, char** argv) {
+  constexpr std::string_view kSamplesFlag = "--samples=";
+  std::vector<char*> arguments;
+  for (int i = 0; i < argc; ++i) {
+    const std::string_view argument = argv[i];
+    if (argument.starts_with(kSamplesFlag)) {
+      loom::RegisterSampleFits(std::string(argument.substr(kSamplesFlag.size())));
+    } else {
+      arguments.push_back(argv[i]);
+    }
+  }
+  loom::RegisterSyntheticFits();
+  int count = static_cast<int>(arguments.size());
+  benchmark::Initialize(&count, arguments.data());
+  if (benchmark::ReportUnrecognizedArguments(count, arguments.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,5 +1,6 @@
-// loom-lab geometry | acquire | precompute: a fabric's micro-geometry, its radiance
-// samples, and its fitted BRDF array (the cached asset).
+// loom-lab geometry | acquire | fit | precompute: a fabric's micro-geometry, its
+// radiance samples, the fit of saved samples, and its fitted BRDF array (the cached
+// asset).
 
 #include <cstdio>
 
@@ -54,6 +55,15 @@ nlohmann::json FitJson(const FittedFabric& fitted) {
           {"levels", levels}};
 }
 
+void PrintLevels(const FittedFabric& fitted) {
+  for (const FittedLevel& level : fitted.levels) {
+    std::printf("  level %u (%u²): relative RMSE %.2f%%, %.1f LM iterations/texel, %u fallbacks, %u empty\n",
+                level.stats.level, level.stats.resolution, 100.0 * level.stats.relative_rmse,
+                level.stats.lm_iterations_per_texel, level.stats.fewer_lobes + level.stats.diffuse_only,
+                level.stats.empty);
+  }
+}
+
 uintmax_t DirectoryBytes(const std::filesystem::path& directory) {
   uintmax_t bytes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(directory)) {
@@ -71,9 +81,11 @@ void FabricInput::AddTo(CLI::App* command) {
 
 v1::FabricSpec FabricInput::LoadFabric() const { return LoadSpecFile<v1::FabricSpec>(fabric, "fabric"); }
 
-v1::PrecomputeSettings FabricInput::LoadSettings() const {
-  return settings.empty() ? v1::PrecomputeSettings() : LoadSpecFile<v1::PrecomputeSettings>(settings, "precompute");
+v1::PrecomputeSettings LoadSettingsFile(const std::string& path) {
+  return path.empty() ? v1::PrecomputeSettings() : LoadSpecFile<v1::PrecomputeSettings>(path, "precompute");
 }
+
+v1::PrecomputeSettings FabricInput::LoadSettings() const { return LoadSettingsFile(settings); }
 
 LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
@@ -158,6 +170,38 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
           }};
 }
 
+LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string samples, settings;
+    unsigned threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "fit", "Fit a samples file written by acquire and print the fit figures (times the fit alone; writes no asset)");
+  command->add_option("samples", options->samples, "Samples file (from loom-lab acquire)")->required();
+  command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
+  command->add_option("--threads", options->threads, "Worker threads (0 = every core)");
+  return {command, [&flags, options] {
+            const v1::PrecomputeSettings settings = LoadSettingsFile(options->settings);
+            const RadianceSamples samples = ReadRadianceSamples(options->samples);
+            FittedFabric fitted;
+            {
+              ProgressBar bar("fit");
+              fitted = FitFabric(
+                  samples, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
+                  options->threads);
+            }
+            if (flags.json) {
+              PrintJson(FitJson(fitted));
+            } else {
+              std::printf("fitted %s in %.2f s (%zu levels)\n", options->samples.c_str(), fitted.seconds,
+                          fitted.levels.size());
+              PrintLevels(fitted);
+            }
+            return 0;
+          }};
+}
+
 LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
     FabricInput input;
@@ -201,12 +245,7 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
               std::printf("wrote %s (%.1f KB): acquisition %.1f s, fit %.1f s (%zu levels), total %.1f s\nkey %s\n",
                           options->out.c_str(), static_cast<double>(asset_bytes) / 1024.0, stats.acquisition.seconds,
                           fitted.seconds, fitted.levels.size(), total_seconds, key.c_str());
-              for (const FittedLevel& level : fitted.levels) {
-                std::printf("  level %u (%u²): relative RMSE %.2f%%, %.1f LM iterations/texel, %u fallbacks, %u empty\n",
-                            level.stats.level, level.stats.resolution, 100.0 * level.stats.relative_rmse,
-                            level.stats.lm_iterations_per_texel, level.stats.fewer_lobes + level.stats.diffuse_only,
-                            level.stats.empty);
-              }
+              PrintLevels(fitted);
             }
             return 0;
           }};

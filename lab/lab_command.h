@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "core/gl/egl_context.h"
 #include "loom/v1/fabric.pb.h"
@@ -31,6 +32,7 @@ LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags);
 
@@ -49,6 +51,9 @@ struct FabricInput {
   v1::FabricSpec LoadFabric() const;
   v1::PrecomputeSettings LoadSettings() const;
 };
+
+// A precompute settings file; the empty path gives the defaults.
+v1::PrecomputeSettings LoadSettingsFile(const std::string& path);
 
 nlohmann::json DeviceJson(const gl::DeviceInfo& info);
 void PrintJson(const nlohmann::json& figures);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include "core/spec/defaults.h"
@@ -59,63 +58,64 @@ FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
 }
 
 // Every raw sample of `texel` of `level` (the level-0 texels it covers, views with
-// alpha > 0) in the texel's local frame.
+// alpha > 0) in the texel's local frame, those of one view and light pooled
+// (texel_fit.h TexelSamples): they share the texel's frame.
 TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& level_data, uint32_t level,
                            size_t texel) {
   const size_t views = samples.view_count(), lights = samples.light_count();
   const TexelFrame frame(level_data.normals[texel], level_data.tangents[texel]);
-  std::vector<glm::vec3> local_views(views), local_lights(lights);
-  for (size_t v = 0; v < views; ++v) local_views[v] = frame.ToLocal(samples.view_directions[v]);
+  std::vector<glm::vec3> local_lights(lights);
   for (size_t l = 0; l < lights; ++l) local_lights[l] = frame.ToLocal(samples.light_directions[l]);
 
   const size_t span = size_t{1} << level;
   const size_t x0 = (texel % level_data.resolution) * span, y0 = (texel / level_data.resolution) * span;
-  auto for_each_child = [&](auto body) {
-    for (size_t y = y0; y < y0 + span; ++y) {
-      for (size_t x = x0; x < x0 + span; ++x) body(y * samples.resolution + x);
-    }
-  };
-  size_t valid = 0;
-  for_each_child([&](size_t child) {
-    for (size_t v = 0; v < views; ++v) valid += samples.alpha[samples.AlphaIndex(child, v)] > 0.0f ? lights : 0;
-  });
+  std::vector<size_t> covered;  // the level-0 texels it covers
+  for (size_t y = y0; y < y0 + span; ++y) {
+    for (size_t x = x0; x < x0 + span; ++x) covered.push_back(y * samples.resolution + x);
+  }
   TexelSamples result(static_cast<uint32_t>(views));
-  result.Reserve(valid);
-  for_each_child([&](size_t child) {
-    for (size_t v = 0; v < views; ++v) {
-      if (!(samples.alpha[samples.AlphaIndex(child, v)] > 0.0f)) continue;
-      const glm::vec3* radiance = &samples.radiance[samples.RadianceIndex(child, v, 0)];
-      for (size_t l = 0; l < lights; ++l) {
-        result.Add(local_lights[l], local_views[v], static_cast<uint32_t>(v), radiance[l]);
-      }
+  result.Reserve(views * lights);
+  std::vector<size_t> seen;  // the covered texels with alpha > 0 for a view
+  std::vector<glm::vec3> pooled;
+  for (size_t v = 0; v < views; ++v) {
+    seen.clear();
+    for (size_t child : covered) {
+      if (samples.alpha[samples.AlphaIndex(child, v)] > 0.0f) seen.push_back(child);
     }
-  });
+    if (seen.empty()) continue;
+    const glm::vec3 local_view = frame.ToLocal(samples.view_directions[v]);
+    for (size_t l = 0; l < lights; ++l) {
+      pooled.clear();
+      for (size_t child : seen) pooled.push_back(samples.radiance[samples.RadianceIndex(child, v, l)]);
+      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled);
+    }
+  }
   return result;
 }
 
-// The mean of the fits of a coarse texel's non-empty children, channel c, as the
-// start of its own fit; nullopt if every child is empty.
-std::optional<ChannelStart> ChildrenMean(const std::vector<std::array<ChannelFit, 3>>& children,
-                                         uint32_t child_resolution, size_t texel, int c) {
+// The start candidates of a coarse texel's fit, channel c (texel_fit.h
+// ChannelStart): its non-empty children's fits and their mean; none if every
+// child is empty.
+std::vector<ChannelStart> ChildStarts(const std::vector<std::array<ChannelFit, 3>>& children,
+                                      uint32_t child_resolution, size_t texel, int c) {
   const size_t x = texel % (child_resolution / 2), y = texel / (child_resolution / 2);
-  std::optional<ChannelStart> start;
-  double count = 0;
+  std::vector<ChannelStart> starts(1);  // the mean first
   for (size_t child_y = 2 * y; child_y < 2 * y + 2; ++child_y) {
     for (size_t child_x = 2 * x; child_x < 2 * x + 2; ++child_x) {
       const ChannelFit& child = children[child_y * child_resolution + child_x][c];
-      if (child.status == TexelFitStatus::kEmpty) continue;
-      if (!start) start = ChannelStart{std::vector<double>(child.parameters.size(), 0.0),
-                                       std::vector<double>(child.lut.size(), 0.0)};
-      for (size_t i = 0; i < child.parameters.size(); ++i) start->parameters[i] += child.parameters[i];
-      for (size_t v = 0; v < child.lut.size(); ++v) start->lut[v] += child.lut[v];
-      ++count;
+      if (child.status != TexelFitStatus::kEmpty) starts.push_back({child.parameters, child.lut});
     }
   }
-  if (start) {
-    for (double& value : start->parameters) value /= count;
-    for (double& value : start->lut) value /= count;
+  if (starts.size() == 1) return {};
+  const double count = double(starts.size() - 1);
+  ChannelStart& mean = starts.front();
+  mean.parameters.assign(starts[1].parameters.size(), 0.0);
+  mean.lut.assign(starts[1].lut.size(), 0.0);
+  for (size_t i = 1; i < starts.size(); ++i) {
+    for (size_t j = 0; j < mean.parameters.size(); ++j) mean.parameters[j] += starts[i].parameters[j] / count;
+    for (size_t v = 0; v < mean.lut.size(); ++v) mean.lut[v] += starts[i].lut[v] / count;
   }
-  return start;
+  return starts;
 }
 
 // Stores a texel's combined fit in its level.
@@ -218,31 +218,37 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   fabric.levels.push_back(FinestLevel(samples));
   for (uint32_t k = 1; k < level_count; ++k) fabric.levels.push_back(CoarserLevel(fabric.levels.back(), views));
 
-  // Level by level, finest first: a coarse texel starts from its children's mean
-  // fit (texel_fit.h ChannelStart), which saves about a third of its iterations.
-  // Within a level every (texel, channel) is one work item.
+  // Level by level, finest first: a coarse texel starts from the closest of its
+  // children's fits and their mean (texel_fit.h ChannelStart). Within a level every
+  // (texel, channel) is one work item.
   std::vector<std::vector<std::array<ChannelFit, 3>>> channel_fits(level_count);
   std::vector<double> level_seconds(level_count, 0.0);
-  // Every level covers the same samples, so each is an equal share of the progress.
+  // A level's share of the progress is its share of the texels: with pooled
+  // samples (GatherSamples) a coarse texel costs about what a fine one does.
+  double total_texels = 0.0;
+  for (const FittedLevel& level : fabric.levels) total_texels += double(level.resolution) * level.resolution;
+  double texels_done = 0.0;
   for (uint32_t k = 0; k < level_count; ++k) {
     const Stopwatch level_time;
     const size_t texels = size_t{fabric.levels[k].resolution} * fabric.levels[k].resolution;
     const std::string stage = "fitting level " + std::to_string(k);
     channel_fits[k].resize(texels);
-    if (progress) progress(double(k) / level_count, stage);
+    if (progress) progress(texels_done / total_texels, stage);
     ParallelFor(
         texels * 3, threads,
         [&](size_t item, unsigned) {
           const size_t texel = item / 3;
           const int c = static_cast<int>(item % 3);
           const TexelSamples texel_samples = GatherSamples(samples, fabric.levels[k], k, texel);
-          const std::optional<ChannelStart> start =
-              k > 0 ? ChildrenMean(channel_fits[k - 1], fabric.levels[k - 1].resolution, texel, c) : std::nullopt;
-          channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, start ? &*start : nullptr);
+          const std::vector<ChannelStart> starts =
+              k > 0 ? ChildStarts(channel_fits[k - 1], fabric.levels[k - 1].resolution, texel, c)
+                    : std::vector<ChannelStart>();
+          channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, starts);
         },
         [&](size_t done) {
-          if (progress) progress((k + double(done) / (texels * 3)) / level_count, stage);
+          if (progress) progress((texels_done + double(done) / 3) / total_texels, stage);
         });
+    texels_done += double(texels);
     level_seconds[k] = level_time.Seconds();
   }
 

@@ -5,20 +5,22 @@
 // Level 0 has one texel per sampled texel. Texel (x, y) of level k + 1 is fitted
 // to the pooled raw samples of its 2×2 children at level k, which are the raw
 // samples of the 2^{k+1}×2^{k+1} level-0 texels it covers: the paper's "fitted, not
-// filtered" mip levels, each level seeing the same number of samples. Its normal is
-// its children's normals averaged, its tangent re-derived from that normal as
-// acquisition derives tangents (core/acquire/radiance_samples.h TexelTangent), and
-// its alpha per view the mean of its children's (alpha is not fitted, §5).
+// filtered" mip levels, each level seeing the same raw samples. Those of one view
+// and light are pooled exactly (texel_fit.h TexelSamples), so a coarse texel costs
+// what a fine one does. Its normal is its children's normals averaged, its tangent
+// re-derived from that normal as acquisition derives tangents
+// (core/acquire/radiance_samples.h TexelTangent), and its alpha per view the mean
+// of its children's (alpha is not fitted, §5).
 //
 // Empty texels (no view with alpha > 0) keep status kEmpty and take their
 // parent's BRDF and table, or at the top level (or without mip levels) those of
 // the nearest non-empty texel of their level, tile-periodically; their alpha stays
 // 0, so a renderer shows the hole, but filtering across it sees sensible values.
 //
-// Work. Levels are fitted finest first, each coarse texel starting from the mean
-// fit of its children (the paper's start stays for level 0). Within a level each
-// (texel, channel) is an independent work item (texel_fit.h), spread over every
-// core by ParallelFor. The result does not depend on the thread count.
+// Work. Levels are fitted finest first, each coarse texel starting from whichever
+// of its children's fits and their mean is closest to its samples (the paper's
+// start stays for level 0). Within a level each (texel, channel) is an
+// independent work item (texel_fit.h), spread over every core by ParallelFor. The result does not depend on the thread count.
 
 #include <cstdint>
 #include <functional>
@@ -77,8 +79,8 @@ struct FittedFabric {
   float sampling_height = 0.0f;
 };
 
-// fraction in [0, 1], non-decreasing (each level an equal share: every level
-// fits the same samples); stage names the step.
+// fraction in [0, 1], non-decreasing (each level's share is its share of the
+// texels); stage names the step.
 // Called on the calling thread; throwing from it cancels the fit.
 using FitProgress = std::function<void(double fraction, std::string_view stage)>;
 

@@ -26,7 +26,8 @@
 // Levenberg–Marquardt evaluates each candidate's cost and, once it accepts the
 // step, the Jacobian at the same point: the lobe values and their logarithms (the
 // only transcendental work) are kept from one evaluation to the next, so an
-// accepted step costs one log and one exp per lobe and sample, not two. The cache
+// accepted step costs one log and one exp per lobe and sample, not two (vectorised,
+// core/fit/lobe_powers.h). The cache
 // makes a LobeCost single-threaded: one per solve.
 
 #include <ceres/ceres.h>
@@ -39,8 +40,9 @@
 namespace loom {
 
 // A texel's samples reduced to what the model needs: per sample the lobe argument
-// (l_k v_k in the local frame), the cosine l_z clamped at 0 and the view index.
-// Shared by the three channels.
+// (l_k v_k in the local frame), the cosine l_z clamped at 0 (times √n for a sample
+// pooling n raw ones, texel_fit.h TexelSamples) and the view index. Shared by the
+// three channels.
 struct TexelGeometry {
   uint32_t view_count = 0;
   std::vector<LobeArgument> arguments;
@@ -87,7 +89,8 @@ class LobeCost final : public ceres::CostFunction {
   uint32_t lobes_;
   mutable bool cache_valid_ = false;
   mutable std::vector<double> cached_x_;
-  mutable std::vector<double> lobe_values_;  // [C_i · a_s]^{N_i} at [s·lobes + i], 0 where off
+  mutable std::vector<double> dots_;         // C_i · a_s of one lobe, scratch
+  mutable std::vector<double> lobe_values_;  // [C_i · a_s]^{N_i} at [i·samples + s], 0 where off
   mutable std::vector<double> lobe_logs_;    // log(C_i · a_s) where on, else 0
 };
 

@@ -154,8 +154,17 @@ bool SolveLobes(LobeCost& cost, std::vector<double>& x, uint32_t lobes, const ce
 
 // The alternation of §5 with `lobes` lobes, from `start` or the paper's start.
 // Returns false if a solve failed.
+//
+// The paper stops once the table settles (mean |ΔT| below the threshold). A fit
+// that has settled with an error still above `fallback_error` (the closed-form
+// diffuse fit's) would be thrown away for fewer lobes; it keeps alternating
+// instead, within the cap on alternations, while a round still lowers its error by
+// kMinRoundGain: every round lowers the error (LM from the current point, then the
+// exact T), and a few more rounds take some of these fits below the diffuse one.
 bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<double>& radiance, uint32_t lobes,
-                          const TexelFitOptions& options, const ChannelStart* start, ChannelFit& fit) {
+                          const TexelFitOptions& options, const ChannelStart* start, double fallback_error,
+                          ChannelFit& fit) {
+  constexpr double kMinRoundGain = 1e-3;
   if (start != nullptr) {
     fit.parameters = start->parameters;
     fit.lut = start->lut;
@@ -167,13 +176,18 @@ bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<doubl
   fit.lut_changes.clear();
   LobeCost cost(geometry, radiance, fit.lut, lobes);
   const ceres::Solver::Options solver = LobeSolverOptions(options.max_lm_iterations);
+  double previous_error = INFINITY;
   while (fit.alternations < options.max_alternations) {
     ++fit.alternations;
     if (!SolveLobes(cost, fit.parameters, lobes, solver, fit.lm_iterations)) return false;
     if (!options.lookup_table) break;
     const double change = UpdateLut(geometry, radiance, fit.parameters, lobes, fit.lut);
     fit.lut_changes.push_back(change);
-    if (change < options.lut_change_threshold) break;
+    if (change < options.lut_change_threshold) {
+      const double error = SquaredError(geometry, radiance, fit.parameters.data(), lobes, fit.lut);
+      if (!(error > fallback_error && error < previous_error * (1.0 - kMinRoundGain))) break;
+      previous_error = error;
+    }
   }
   fit.squared_error = SquaredError(geometry, radiance, fit.parameters.data(), lobes, fit.lut);
   return std::isfinite(fit.squared_error) && AllFinite(fit.lut);
@@ -181,23 +195,36 @@ bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<doubl
 
 // The channel's fit with every fallback (see the header).
 ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& radiance,
-                      const TexelFitOptions& options, const ChannelStart* start) {
+                      const TexelFitOptions& options, std::span<const ChannelStart> starts) {
   if (geometry.size() == 0 || std::all_of(radiance.begin(), radiance.end(), [](double r) { return r == 0.0; })) {
     ChannelFit fit = FitDiffuse(geometry, radiance, options);  // ρ = 0, lobes off, T = 1
     fit.status = geometry.size() == 0 ? TexelFitStatus::kEmpty : TexelFitStatus::kBlack;
     return fit;
   }
   const ChannelFit diffuse = FitDiffuse(geometry, radiance, options);
+  // Relative slack: a lobe fit that converged onto the diffuse solution differs
+  // from it only by rounding.
+  const double fallback_error = diffuse.squared_error * (1.0 + 1e-9) + 1e-300;
   uint32_t iterations = 0;
+  // Of the given starts (a mip texel's children's fits and their mean), the one
+  // closest to this texel's samples; one error evaluation each, against an LM
+  // iteration for every step a worse start costs.
+  const ChannelStart* start = nullptr;
+  double start_error = INFINITY;
+  for (const ChannelStart& candidate : starts) {
+    const double error = SquaredError(geometry, radiance, candidate.parameters.data(), options.lobes, candidate.lut);
+    if (error < start_error) {
+      start = &candidate;
+      start_error = error;
+    }
+  }
   for (uint32_t lobes = options.lobes; lobes >= 1; --lobes) {
     ChannelFit fit;
     fit.lm_iterations = iterations;
-    const bool solved =
-        AlternateLobesAndLut(geometry, radiance, lobes, options, lobes == options.lobes ? start : nullptr, fit);
+    const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options, lobes == options.lobes ? start : nullptr,
+                                             fallback_error, fit);
     iterations = fit.lm_iterations;
-    // Relative slack: a lobe fit that converged onto the diffuse solution differs
-    // from it only by rounding.
-    if (solved && fit.squared_error <= diffuse.squared_error * (1.0 + 1e-9) + 1e-300) {
+    if (solved && fit.squared_error <= fallback_error) {
       SwitchOffLobes(fit.parameters, lobes, options.lobes);
       fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
       return fit;
@@ -259,11 +286,29 @@ void TexelSamples::Reserve(size_t count) {
   radiance_.reserve(count);
 }
 
-void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
+void TexelSamples::Push(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::dvec3 radiance, double weight) {
   geometry_.arguments.push_back(MakeLobeArgument(light, view));
-  geometry_.cosines.push_back(std::max(0.0, double{light.z}));
+  geometry_.cosines.push_back(weight * std::max(0.0, double{light.z}));
   geometry_.views.push_back(view_index);
-  radiance_.push_back(radiance);
+  radiance_.push_back(weight * radiance);
+}
+
+void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
+  Push(light, view, view_index, radiance, 1.0);
+  ++raw_count_;
+  radiance_sum_ += glm::dvec3(radiance);
+}
+
+void TexelSamples::AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index,
+                             std::span<const glm::vec3> radiances) {
+  const double n = static_cast<double>(radiances.size());
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& r : radiances) sum += glm::dvec3(r);
+  const glm::dvec3 mean = sum / n;
+  for (const glm::vec3& r : radiances) spread_ += (glm::dvec3(r) - mean) * (glm::dvec3(r) - mean);
+  Push(light, view, view_index, mean, std::sqrt(n));
+  raw_count_ += radiances.size();
+  radiance_sum_ += sum;
 }
 
 std::vector<double> TexelSamples::Channel(int c) const {
@@ -273,13 +318,14 @@ std::vector<double> TexelSamples::Channel(int c) const {
 }
 
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
-                           const ChannelStart* start) {
-  const std::vector<double> radiance = samples.Channel(channel);
-  ChannelFit fit = FitChannel(samples.geometry(), radiance, options, start);
-  fit.samples = radiance.size();
-  for (double r : radiance) fit.radiance_sum += r;
+                           std::span<const ChannelStart> starts) {
+  ChannelFit fit = FitChannel(samples.geometry(), samples.Channel(channel), options, starts);
+  fit.squared_error += samples.PooledSpread(channel);
+  fit.samples = samples.raw_count();
+  fit.radiance_sum = samples.RadianceSum(channel);
   return fit;
 }
+
 TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t lobes) {
   TexelFit fit;
   fit.status = TexelFitStatus::kBlack;  // the least; each channel can only raise it

@@ -23,12 +23,14 @@
 // Fallbacks. A lobe fit is kept if Ceres returns a usable solution with finite
 // values and its error is no worse than the closed-form diffuse fit (with its own
 // T): anything else failed or diverged, and the channel is refitted with one lobe
-// fewer, down to diffuse only. Dropped lobes stay in the layout with C = 0 (off).
+// fewer, down to diffuse only. Before that, a fit whose table has settled above
+// the diffuse fit's error keeps alternating while that still lowers its error. Dropped lobes stay in the layout with C = 0 (off).
 // A final guard replaces any non-finite value by the diffuse fit, so no NaN or Inf
 // ever leaves this file.
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/fit/lafortune_brdf.h"
@@ -60,6 +62,19 @@ struct TexelFitOptions {
 TexelFitOptions MakeTexelFitOptions(const v1::PrecomputeSettings& settings);
 
 // One texel's valid samples, directions already in its local frame.
+//
+// Pooled samples. A mip texel fits the samples of its 2×2 children in its own
+// frame, so the children's samples of one view and light have the same directions
+// and differ only in radiance. For n such samples with radiances r_j and mean r̄,
+//
+//   Σ_j (m − r_j)² = n (m − r̄)² + Σ_j (r_j − r̄)²   for every model value m,
+//
+// so they are stored as one sample of radiance r̄ and weight n, and the spread
+// Σ (r_j − r̄)² (which no model can explain) is added back to the fit's error: the
+// fit, its error and its RMSE are those of the n raw samples, at the cost of one.
+// The weight is carried as √n on both the cosine and the radiance (e = T·l_z·f − r
+// is linear in both), so every sum of squares over the stored samples is the
+// weighted one and the fitting code needs no weights.
 class TexelSamples {
  public:
   explicit TexelSamples(uint32_t view_count);
@@ -68,16 +83,31 @@ class TexelSamples {
   // Unit light and view directions in the local frame, the view's index in the
   // stored view directions, the RGB radiance. Only samples with alpha > 0.
   void Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance);
+  // Raw samples with these directions and view, one radiance each (at least one),
+  // stored as one pooled sample.
+  void AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index, std::span<const glm::vec3> radiances);
 
   const TexelGeometry& geometry() const { return geometry_; }
   uint32_t view_count() const { return geometry_.view_count; }
+  // Stored samples (what a fit iterates over).
   size_t size() const { return geometry_.size(); }
-  // Channel c of every sample's radiance.
+  // Channel c of every stored sample's radiance, √n-weighted.
   std::vector<double> Channel(int c) const;
 
+  // Over the raw samples: their count, channel c's radiance sum, and the spread
+  // within pooled samples that the fit's error must add.
+  size_t raw_count() const { return raw_count_; }
+  double RadianceSum(int c) const { return radiance_sum_[c]; }
+  double PooledSpread(int c) const { return spread_[c]; }
+
  private:
+  void Push(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::dvec3 radiance, double weight);
+
   TexelGeometry geometry_;
-  std::vector<glm::vec3> radiance_;
+  std::vector<glm::dvec3> radiance_;
+  size_t raw_count_ = 0;
+  glm::dvec3 radiance_sum_{0.0};
+  glm::dvec3 spread_{0.0};
 };
 
 struct ChannelFit {
@@ -88,22 +118,23 @@ struct ChannelFit {
   uint32_t alternations = 0;       // lobe fits of the kept attempt
   std::vector<double> lut_changes;  // mean |ΔT| after each lobe fit of the kept attempt
   TexelFitStatus status = TexelFitStatus::kOk;
-  size_t samples = 0;               // the channel's valid samples
+  size_t samples = 0;               // the channel's valid raw samples
   double radiance_sum = 0.0;        // Σ r over them
 };
 
 // A start other than the paper's for the fit with every requested lobe:
 // parameters (LafortuneChannel packing, options.lobes lobes, inside the bounds of
-// lobe_cost.h) and T per view. A mip texel starts from its children's mean fit,
-// which is much closer than the generic start (fallbacks to fewer lobes still use
-// the paper's).
+// lobe_cost.h) and T per view. A mip texel's candidates are its children's fits
+// and their mean, much closer than the generic start; the fit starts from the
+// candidate with the least error on the texel's samples (fallbacks to fewer lobes
+// still use the paper's start).
 struct ChannelStart {
   std::vector<double> parameters;
   std::vector<double> lut;
 };
 
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
-                           const ChannelStart* start = nullptr);
+                           std::span<const ChannelStart> starts = {});
 
 // The start above for one channel's radiance (one value per sample), packed as
 // LafortuneChannel's x.

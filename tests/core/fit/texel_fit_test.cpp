@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 
 #include "core/acquire/hemisphere_directions.h"
 #include "tests/core/fit/fit_test_data.h"
@@ -169,6 +171,62 @@ TEST(TexelFit, LutChangeSequenceIsNonIncreasing) {
       EXPECT_LE(changes[i], changes[i - 1]) << "channel " << c << " alternation " << i;
     }
     EXPECT_LT(changes.back(), options.lut_change_threshold) << "converged, channel " << c;
+  }
+}
+
+// A mip texel's samples of one view and light share their directions; pooled into
+// one (mean radiance, weight n) they give the fit, error and RMSE of the raw ones.
+// Not to the last digit: Ceres stops on the relative decrease of the cost, and
+// the raw cost carries the noise's spread between the copies, which the pooled
+// cost leaves out, so the raw fit stops a little earlier (a little worse).
+TEST(TexelFit, PooledSamplesFitLikeTheRawOnes) {
+  constexpr int kCopies = 4;
+  const SyntheticTexel truth(TwoLobes(), ColouredLut());
+  const std::vector<glm::vec3> directions = HemisphereGridDirections(kDirections);
+  std::mt19937 random(5);
+  std::normal_distribution<float> noise(1.0f, 0.05f);
+  TexelSamples raw(kDirections), pooled(kDirections);
+  for (uint32_t v = 0; v < kDirections; ++v) {
+    for (const glm::vec3& l : directions) {
+      std::array<glm::vec3, kCopies> radiances;
+      for (glm::vec3& r : radiances) {
+        r = testing::RenderModel(truth.brdf, truth.lut, v, l, directions[v]) *
+            glm::vec3(noise(random), noise(random), noise(random));
+        raw.Add(l, directions[v], v, r);
+      }
+      pooled.AddPooled(l, directions[v], v, radiances);
+    }
+  }
+  ASSERT_EQ(pooled.size() * kCopies, raw.size());
+  const TexelFitOptions options = TightOptions(2);
+  const TexelFit from_raw = FitTexel(raw, options), from_pooled = FitTexel(pooled, options);
+  EXPECT_EQ(from_pooled.samples, from_raw.samples);
+  EXPECT_NEAR(from_pooled.mean_radiance, from_raw.mean_radiance, 1e-12 * from_raw.mean_radiance);
+  EXPECT_LE(from_pooled.rmse, from_raw.rmse * (1.0 + 1e-9));
+  EXPECT_GT(from_pooled.rmse, from_raw.rmse * (1.0 - 1e-3));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(from_pooled.brdf.rho[c], from_raw.brdf.rho[c], 1e-3 * from_raw.brdf.rho[c]) << "channel " << c;
+  }
+}
+
+// A mip texel starts from the closest of its candidates (its children's fits and
+// their mean): from a converged fit among poor candidates, the warm fit is at least
+// as good as the cold one and takes fewer iterations.
+TEST(TexelFit, WarmStartFromTheClosestCandidateIsNoWorseThanCold) {
+  const SyntheticTexel truth(Brighter(TwoLobes()), ColouredLut(), 0.02, 4);
+  const TexelSamples samples = MakeTexelSamples(truth, kDirections, kDirections);
+  const TexelFitOptions options = MakeTexelFitOptions({});
+  for (int c = 0; c < 3; ++c) {
+    const ChannelFit cold = FitTexelChannel(samples, c, options);
+    ASSERT_EQ(cold.status, TexelFitStatus::kOk);
+    ChannelStart far = {cold.parameters, std::vector<double>(kDirections, 1.0)};
+    far.parameters[0] *= 5.0;  // much too bright
+    const ChannelStart off = {{cold.parameters[0], 0, 0, 0, 1, 0, 0, 0, 1}, cold.lut};  // lobes off
+    const std::vector<ChannelStart> starts = {far, off, {cold.parameters, cold.lut}};
+    const ChannelFit warm = FitTexelChannel(samples, c, options, starts);
+    EXPECT_EQ(warm.status, TexelFitStatus::kOk) << "channel " << c;
+    EXPECT_LE(warm.squared_error, cold.squared_error * (1.0 + 1e-9)) << "channel " << c;
+    EXPECT_LT(warm.lm_iterations, cold.lm_iterations) << "channel " << c;
   }
 }
 
