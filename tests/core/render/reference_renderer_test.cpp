@@ -11,9 +11,12 @@
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "tests/core/render/image_probes.h"
 
 namespace loom {
 namespace {
+
+using testing::RedFraction;
 
 ReferenceFrame RenderJson(const std::string& json, unsigned threads = 2) {
   const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
@@ -86,14 +89,6 @@ TEST(ReferenceRenderer, ClothPlaneMatchesAcquisitionAtTheZenith) {
   acquired /= static_cast<double>(samples.texel_count());
   EXPECT_GT(acquired, 0.1);
   EXPECT_NEAR(rendered, acquired, 0.02 * acquired);
-}
-
-// Pixels where the red plane below shows: red well above green.
-double RedFraction(const Image& image) {
-  int red = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) red += image.at(x, y, 0) > 1.5f * image.at(x, y, 1) + 1e-3f;
-  return static_cast<double>(red) / (image.width * image.height);
 }
 
 TEST(ReferenceRenderer, HolesOfALooseWeaveShowTheRedPlaneBelow) {

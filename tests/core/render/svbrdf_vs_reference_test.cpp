@@ -20,9 +20,12 @@
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "tests/core/render/image_probes.h"
 
 namespace loom {
 namespace {
+
+using testing::RedFraction;
 
 constexpr int kSize = 96;  // pixels a side; the orthographic view is 1 world unit high
 
@@ -58,7 +61,7 @@ v1::SceneSpec MakeScene(const SceneOptions& o) {
                "position": {"x": )" + x + R"(, "y": )" + std::to_string(dy) + R"(, "z": )" + std::to_string(dz) +
                            R"(}, "target": {"x": )" + x + R"(, "y": 0, "z": 0}},
     "lights": [{"direction": {"x": -0.3, "y": -0.5, "z": 1}, "intensity": 3}],
-    "render": {"width": 96, "height": 96, "msaa_samples": 4, "reference_samples": 64, "level_mode": ")" +
+    "render": {"width": )" + std::to_string(kSize) + R"(, "height": )" + std::to_string(kSize) + R"(, "msaa_samples": 4, "reference_samples": 64, "level_mode": ")" +
                            o.level_mode + R"("}})";
   v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
   ValidateOrThrow(scene);
@@ -95,14 +98,6 @@ double MeanRed(const Image& image) {
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) sum += image.at(x, y, 0);
   return sum / (image.width * image.height);
-}
-
-// Pixels where red clearly outweighs green: the red floor seen through a hole.
-double RedFraction(const Image& image) {
-  int red = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) red += image.at(x, y, 0) > 1.5f * image.at(x, y, 1) + 1e-3f;
-  return static_cast<double>(red) / (image.width * image.height);
 }
 
 // Far distance (48 tiles over the plane: a tile spans ~4 px): the fitted levels

@@ -1,0 +1,12 @@
+#include "tests/core/render/image_probes.h"
+
+namespace loom::testing {
+
+double RedFraction(const Image& image) {
+  int red = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) red += image.at(x, y, 0) > 1.5f * image.at(x, y, 1) + 1e-3f;
+  return static_cast<double>(red) / (image.width * image.height);
+}
+
+}  // namespace loom::testing

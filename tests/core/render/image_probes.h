@@ -1,0 +1,12 @@
+#pragma once
+// What the render tests look for in a frame.
+
+#include "core/image/image.h"
+
+namespace loom::testing {
+
+// Fraction of pixels where red clearly outweighs green: a red floor seen through
+// a fabric's holes.
+double RedFraction(const Image& image);
+
+}  // namespace loom::testing
