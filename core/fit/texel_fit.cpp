@@ -37,15 +37,22 @@ double SquaredError(const TexelGeometry& geometry, const std::vector<double>& ra
   return sum;
 }
 
-// Eq. 4 for every view with samples: T = ⟨f, r⟩ / ⟨f, f⟩, clamped to [0, kMaxLut];
+// Eq. 4 for every view with samples: T* = ⟨f, r⟩ / ⟨f, f⟩, clamped to [0, kMaxLut];
 // a view whose model is (numerically) zero keeps its T. Then the scale is fixed:
 // T · f_1 is unchanged by T → T/s, ρ → s·ρ, C_i → s^{1/N_i}·C_i, and s = mean T
 // makes the table's mean 1, so f_1 alone approximates the view-averaged BRDF (what a
 // renderer without the table, or a coarse level, can use) and T stays near 1,
-// where half floats are most precise. Returns the mean |ΔT| over the views with
-// samples.
+// where half floats are most precise.
+//
+// The step T → T* is shortened, if need be, so that the table changes (mean |ΔT|
+// after the scale is fixed) by no more than `max_change`, the previous round's
+// change. Each view's error is a convex quadratic in its T with its minimum on
+// [0, kMaxLut] at T*, so any point of the segment lowers the error as eq. 4 does;
+// the full step can be longer than the last one when the lobe fit moved to another
+// valley, and the paper's stopping rule (the table has settled) needs a change
+// that shrinks. Returns the mean |ΔT| over the views with samples.
 double UpdateLut(const TexelGeometry& geometry, const std::vector<double>& radiance, std::vector<double>& x,
-                 uint32_t lobes, std::vector<double>& lut) {
+                 uint32_t lobes, std::vector<double>& lut, double max_change) {
   std::vector<double> fr(lut.size(), 0.0), ff(lut.size(), 0.0);
   std::vector<bool> seen(lut.size(), false);
   for (size_t s = 0; s < geometry.size(); ++s) {
@@ -54,17 +61,44 @@ double UpdateLut(const TexelGeometry& geometry, const std::vector<double>& radia
     ff[geometry.views[s]] += f * f;
     seen[geometry.views[s]] = true;
   }
-  std::vector<double> updated = lut;
-  double mean = 0.0;
+  std::vector<double> target = lut;
   size_t views = 0;
   for (size_t v = 0; v < lut.size(); ++v) {
     if (!seen[v]) continue;
-    if (ff[v] > 1e-30) updated[v] = std::clamp(fr[v] / ff[v], 0.0, kMaxLut);
-    mean += updated[v];
+    if (ff[v] > 1e-30) target[v] = std::clamp(fr[v] / ff[v], 0.0, kMaxLut);
     ++views;
   }
   if (views == 0) return 0.0;
-  mean /= views;
+  // The table a fraction `step` of the way to T*, its scale fixed (the mean
+  // over the views with samples, 0 if the table is all zero), and its change.
+  std::vector<double> stepped(lut.size());
+  double mean = 0.0;
+  auto take_step = [&](double step) {
+    mean = 0.0;
+    for (size_t v = 0; v < lut.size(); ++v) {
+      stepped[v] = lut[v] + step * (target[v] - lut[v]);
+      if (seen[v]) mean += stepped[v];
+    }
+    mean /= views;
+    double change = 0.0;
+    for (size_t v = 0; v < lut.size(); ++v) {
+      if (!seen[v]) continue;
+      if (mean > 0.0) stepped[v] /= mean;
+      change += std::abs(stepped[v] - lut[v]);
+    }
+    return change / views;
+  };
+  double change = take_step(1.0);
+  if (change > max_change) {
+    // The change grows with the step (from 0 at no step), so bisection finds the
+    // longest step within the cap.
+    double shortest = 0.0, longest = 1.0;
+    for (int i = 0; i < 40; ++i) {
+      const double step = 0.5 * (shortest + longest);
+      (take_step(step) <= max_change ? shortest : longest) = step;
+    }
+    change = take_step(shortest);
+  }
   if (mean > 0.0) {
     // The bounds hold the solver's start feasible; a gauge step that would leave
     // them is cut short there, which a following solve corrects.
@@ -75,14 +109,9 @@ double UpdateLut(const TexelGeometry& geometry, const std::vector<double>& radia
         x[k + 4 * i] = std::clamp(x[k + 4 * i] * scale, -kMaxLobeCoefficient, kMaxLobeCoefficient);
       }
     }
-    for (size_t v = 0; v < lut.size(); ++v) {
-      if (seen[v]) updated[v] /= mean;
-    }
   }
-  double change = 0.0;
-  for (size_t v = 0; v < lut.size(); ++v) change += std::abs(updated[v] - lut[v]);
-  lut = std::move(updated);
-  return change / views;
+  lut = std::move(stepped);
+  return change;
 }
 
 // The layout of `lobes` lobes with the ones from `from` on switched off.
@@ -159,8 +188,10 @@ bool SolveLobes(LobeCost& cost, std::vector<double>& x, uint32_t lobes, const ce
 // that has settled with an error still above `fallback_error` (the closed-form
 // diffuse fit's) would be thrown away for fewer lobes; it keeps alternating
 // instead, within the cap on alternations, while a round still lowers its error by
-// kMinRoundGain: every round lowers the error (LM from the current point, then the
-// exact T), and a few more rounds take some of these fits below the diffuse one.
+// kMinRoundGain: every round lowers the error (LM from the current point, then a
+// step of T towards eq. 4's), and a few more rounds take some of these fits below
+// the diffuse one. The table's change never grows from one round to the next
+// (UpdateLut).
 bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<double>& radiance, uint32_t lobes,
                           const TexelFitOptions& options, const ChannelStart* start, double fallback_error,
                           ChannelFit& fit) {
@@ -177,11 +208,13 @@ bool AlternateLobesAndLut(const TexelGeometry& geometry, const std::vector<doubl
   LobeCost cost(geometry, radiance, fit.lut, lobes);
   const ceres::Solver::Options solver = LobeSolverOptions(options.max_lm_iterations);
   double previous_error = INFINITY;
+  double previous_change = INFINITY;
   while (fit.alternations < options.max_alternations) {
     ++fit.alternations;
     if (!SolveLobes(cost, fit.parameters, lobes, solver, fit.lm_iterations)) return false;
     if (!options.lookup_table) break;
-    const double change = UpdateLut(geometry, radiance, fit.parameters, lobes, fit.lut);
+    const double change = UpdateLut(geometry, radiance, fit.parameters, lobes, fit.lut, previous_change);
+    previous_change = change;
     fit.lut_changes.push_back(change);
     if (change < options.lut_change_threshold) {
       const double error = SquaredError(geometry, radiance, fit.parameters.data(), lobes, fit.lut);

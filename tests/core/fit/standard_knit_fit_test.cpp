@@ -14,9 +14,9 @@ namespace {
 // Daubert §5: the lobe fit and the LUT update alternate "until the average
 // difference of the previous lookup table's entries to the new one's is below a
 // certain threshold". On the standard knit every channel of every texel gets there
-// or uses up its rounds, its last change smaller than its first. The change does
-// not always shrink every round (the printed count of increases; issue 4 asks for
-// non-increasing sequences, which this fit does not yet give).
+// or uses up its rounds, and the change never grows from one round to the next
+// (a longer step than the last is shortened: UpdateLut); the printed count of
+// shortened rounds says how often that acts.
 TEST(StandardKnitFit, AlternationConvergesOnEveryTexel) {
   v1::PrecomputeSettings settings;
   settings.set_spatial_resolution(8);
@@ -29,7 +29,7 @@ TEST(StandardKnitFit, AlternationConvergesOnEveryTexel) {
       Acquire(BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}})", "fabric")), settings);
   const TexelFitOptions options = MakeTexelFitOptions(settings);
 
-  size_t sequences = 0, increasing = 0, multi_round = 0, increasing_sequences = 0;
+  size_t sequences = 0, multi_round = 0, capped_rounds = 0;
   for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
     const glm::vec3 n = samples.normals[texel];
     const glm::vec3 t = samples.tangents[texel];
@@ -47,21 +47,16 @@ TEST(StandardKnitFit, AlternationConvergesOnEveryTexel) {
       if (changes.empty()) continue;
       ++sequences;
       if (changes.size() > 2) ++multi_round;
-      bool increased = false;
       for (size_t i = 1; i < changes.size(); ++i) {
-        if (changes[i] > changes[i - 1] * (1.0 + 1e-9)) {
-          ++increasing;
-          increased = true;
-        }
+        EXPECT_LE(changes[i], changes[i - 1] * (1.0 + 1e-9)) << "texel " << texel << " round " << i;
+        if (changes[i] >= changes[i - 1] * (1.0 - 1e-9)) ++capped_rounds;
       }
-      if (increased) ++increasing_sequences;
-      EXPECT_LE(changes.back(), changes.front());
       // It stopped because it converged, or because it ran out of rounds.
       EXPECT_TRUE(changes.back() < settings.lut_change_threshold() || changes.size() == settings.max_alternations());
     }
   }
-  std::printf("%zu sequences, %zu with more than two rounds; %zu sequences rise somewhere (%zu rises)\n", sequences,
-              multi_round, increasing_sequences, increasing);
+  std::printf("%zu sequences, %zu with more than two rounds, %zu rounds shortened\n", sequences, multi_round,
+              capped_rounds);
   EXPECT_GT(sequences, 150u);
   EXPECT_GT(multi_round, sequences / 4);
 }
