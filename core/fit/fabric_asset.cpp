@@ -3,6 +3,8 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
@@ -23,11 +25,25 @@ constexpr const char* kLutFile = "lut.exr";
 constexpr const char* kManifestFile = "manifest.json";
 
 // One image with its MIP levels, pixel-interleaved floats, level j of side sides[j].
+// Channels flagged in `keep_float` stay 32-bit in a half-float file.
 struct LevelImage {
   std::vector<std::string> channel_names;
   std::vector<int> sides;
   std::vector<std::vector<float>> pixels;
+  std::vector<bool> keep_float = std::vector<bool>(channel_names.size(), false);
 };
+
+// A lobe's peak is a^N with a = Σ C_k l'_k v'_k: a relative error ε in a becomes
+// N·ε in the BRDF, 12 % at N = 256 (a near-mirror lobe) for half floats' ε = 2^-11.
+// The lobe coefficients and the frame that l' and v' are taken in (normal,
+// tangent) stay 32-bit; ρ, N, the table and alpha enter linearly (or, for N,
+// through ln a ≈ 0 at such peaks) and lose ≤ 0.1 % in half floats.
+bool NeedsFullFloat(const std::string& channel) {
+  for (const char* part : {".Cx.", ".Cy.", ".Cz.", "normal.", "tangent."}) {
+    if (channel.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
 
 std::vector<std::string> ParameterChannelNames(uint32_t lobes) {
   std::vector<std::string> names;
@@ -63,6 +79,7 @@ void ForEachParameter(Level& level, size_t texel, uint32_t lobes, Visit visit) {
 
 LevelImage ParameterImage(const FittedFabric& fabric) {
   LevelImage image{ParameterChannelNames(fabric.lobes), {}, {}};
+  for (size_t c = 0; c < image.channel_names.size(); ++c) image.keep_float[c] = NeedsFullFloat(image.channel_names[c]);
   for (const FittedLevel& level : fabric.levels) {
     std::vector<float>& pixels = image.pixels.emplace_back();
     for (size_t texel = 0; texel < level.brdfs.size(); ++texel) {
@@ -125,6 +142,12 @@ std::string WriteLevelImage(const LevelImage& image, const std::filesystem::path
   for (size_t j = 0; j < sides.size(); ++j) {
     OIIO::ImageSpec spec(sides[j], sides[j], channels, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     spec.channelnames = image.channel_names;
+    if (half && std::find(image.keep_float.begin(), image.keep_float.end(), true) != image.keep_float.end()) {
+      spec.format = OIIO::TypeDesc::FLOAT;  // OpenImageIO: the widest of the channel formats
+      for (int c = 0; c < channels; ++c) {
+        spec.channelformats.push_back(image.keep_float[c] ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
+      }
+    }
     spec.attribute("compression", "zip");
     if (mip) {
       spec.tile_width = spec.tile_height = 32;

@@ -67,15 +67,15 @@ FabricTextures::FabricTextures(const FabricTextureData& data, bool half)
   if (levels_ == 0 || resolution_ == 0 || view_side_ == 0 || (resolution_ >> (levels_ - 1)) == 0) {
     throw Error(ErrorCode::kInvalidArgument, "fabric textures: empty or inconsistent levels");
   }
-  const GLenum format = half ? GL_RGBA16F : GL_RGBA32F;
+  const GLenum lut_format = half ? GL_RGBA16F : GL_RGBA32F;
   const auto r = static_cast<GLsizei>(resolution_);
   const auto k = static_cast<GLsizei>(view_side_);
   const auto levels = static_cast<GLsizei>(levels_);
 
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &params_);
-  glTextureStorage3D(params_, levels, format, r, r, kFabricParamLayers);
+  glTextureStorage3D(params_, levels, GL_RGBA32F, r, r, kFabricParamLayers);
   glCreateTextures(GL_TEXTURE_2D, 1, &lut_);
-  glTextureStorage2D(lut_, levels, format, r * k, r * k);
+  glTextureStorage2D(lut_, levels, lut_format, r * k, r * k);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   for (GLint level = 0; level < levels; ++level) {
     const GLsizei side = r >> level;

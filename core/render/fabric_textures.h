@@ -59,7 +59,8 @@ struct FabricTextureData {
 
 class FabricTextures {
  public:
-  // `half` stores 16-bit floats (half the memory; see the asset's precision figures).
+  // `half` stores the lookup table in 16-bit floats (half its memory); the
+  // parameters stay 32-bit, as in the asset: the lobes' C^N amplifies rounding.
   FabricTextures(const FabricTextureData& data, bool half);
   ~FabricTextures();
   FabricTextures(const FabricTextures&) = delete;
