@@ -138,7 +138,7 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (manifest_json.empty()) throw Error(ErrorCode::kInvalidArgument, "artifacts: no manifest.json");
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }
-    const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes);
+    const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes, request->run_ms());
     ReleaseIfEnded(state_, ended);
     spdlog::info("job {}: {} by {}", id, v1::JobState_Name(ended.state()), request->worker_id());
     if (job.kind() == v1::JOB_KIND_PRECOMPUTE) state_.cache.Evict();

@@ -240,11 +240,19 @@ std::optional<v1::LeaseJobResponse> WorkerLoop::LeaseJob() {
 }
 
 std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased,
-                                           Lease& lease) {
+                                           Lease& lease, double& run_ms) {
   const v1::Job& job = leased.job();
+  const auto timed = [&run_ms](auto&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    auto result = work();
+    run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
   if (job.has_precompute()) {
-    return runner.Precompute(job.precompute(), job.fabric_key(),
-                             [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    return timed([&] {
+      return runner.Precompute(job.precompute(), job.fabric_key(),
+                               [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    });
   }
   FittedFabrics fitted;
   for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
@@ -254,7 +262,7 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
     }
     return rpc::DownloadArtifact(*stub_, mesh.artifact());
   };
-  return {runner.Render(job.render(), meshes, fitted)};
+  return {timed([&] { return runner.Render(job.render(), meshes, fitted); })};
 }
 
 void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased) {
@@ -278,7 +286,8 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   lease.Log(std::string(kind) + " on " + options_.label + " (" + runner.device().gl_renderer + ")");
   std::string failure;
   try {
-    const std::vector<NamedFile> files = Execute(runner, fits, leased, lease);
+    double run_ms = 0;
+    const std::vector<NamedFile> files = Execute(runner, fits, leased, lease, run_ms);
     // A render runs to the end even when stopping; a cancel or lost lease drops it.
     const Interruption why = lease.interruption();
     if (why == Interruption::kCancelled || why == Interruption::kLeaseLost) throw JobInterrupted{};
@@ -293,6 +302,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
     complete.set_worker_id(worker_id_);
     complete.set_job_id(job.id());
     complete.set_fencing_token(lease.token());
+    complete.set_run_ms(run_ms);
     lease.Log(std::string(kind) + " done");
     for (std::string& line : lease.TakeLog()) complete.add_log_lines(std::move(line));
     grpc::ClientContext context;

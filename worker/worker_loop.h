@@ -62,8 +62,9 @@ class WorkerLoop {
   // Runs one leased job to CompleteJob or FailJob. Throws Error(kUnavailable) only
   // when the server cannot be reached (the lease then expires there).
   void RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased);
-  // The job's result files.
-  std::vector<NamedFile> Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased, Lease& lease);
+  // The job's result files, and the time spent in the work itself (in `run_ms`).
+  std::vector<NamedFile> Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased, Lease& lease,
+                                 double& run_ms);
   // Waits (interruptibly by Stop) before the next attempt to reach the server.
   void Backoff(std::chrono::milliseconds& delay);
 

@@ -43,7 +43,8 @@ CREATE TABLE IF NOT EXISTS jobs (
   lease_deadline_ms INTEGER NOT NULL DEFAULT 0,
   progress_moved_ms INTEGER NOT NULL DEFAULT 0,
   cancel_requested INTEGER NOT NULL DEFAULT 0,
-  version INTEGER NOT NULL DEFAULT 0);
+  version INTEGER NOT NULL DEFAULT 0,
+  run_ms REAL NOT NULL DEFAULT 0);        -- the worker's own time in the work
 CREATE INDEX IF NOT EXISTS jobs_by_readiness ON jobs(state, priority DESC, seq);
 CREATE INDEX IF NOT EXISTS jobs_by_fabric ON jobs(fabric_key, state);
 CREATE TABLE IF NOT EXISTS job_deps (
@@ -72,7 +73,7 @@ CREATE TABLE IF NOT EXISTS leases (
 constexpr const char* kRowColumns =
     "seq, kind, state, priority, attempts, max_attempts, payload, client_request_id, fabric_key, "
     "progress_fraction, progress_stage, submitted_ms, started_ms, finished_ms, results, error, worker_id, "
-    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested";
+    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested, run_ms";
 
 std::string JobId(int64_t seq) { return "job-" + std::to_string(seq); }
 
@@ -124,6 +125,15 @@ std::string DependencyError(const std::string& id, JobState state, const std::st
 
 std::string Seconds(int64_t ms) { return std::to_string(ms / 1000) + " s"; }
 
+// Columns added after a table's first release: a data directory made by an older
+// server gains them when opened (CREATE TABLE IF NOT EXISTS leaves it as it was).
+void AddColumnIfMissing(SqliteDb& db, const std::string& table, const std::string& column,
+                        const std::string& definition) {
+  auto found = db.Query("SELECT COUNT(*) FROM pragma_table_info(?) WHERE name = ?", table, column);
+  found.Step();
+  if (found.Int(0) == 0) db.Exec("ALTER TABLE " + table + " ADD COLUMN " + column + " " + definition);
+}
+
 }  // namespace
 
 // The mutable columns of one job row, read in one query.
@@ -147,6 +157,7 @@ struct JobQueue::Row {
   int64_t lease_deadline_ms = 0;
   int64_t progress_moved_ms = 0;
   bool cancel_requested = false;
+  double run_ms = 0;
 
   std::string id() const { return JobId(seq); }
   bool leased() const { return state == v1::JOB_STATE_LEASED || state == v1::JOB_STATE_RUNNING; }
@@ -185,6 +196,7 @@ struct JobQueue::Row {
     row.lease_deadline_ms = s.Int(18);
     row.progress_moved_ms = s.Int(19);
     row.cancel_requested = s.Int(20) != 0;
+    row.run_ms = s.Double(21);
     return row;
   }
 };
@@ -214,6 +226,7 @@ JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, Jo
                 "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
   }
   db_->Exec(kSchema);
+  AddColumnIfMissing(*db_, "jobs", "run_ms", "REAL NOT NULL DEFAULT 0");
   {
     auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
     max_version.Step();
@@ -273,6 +286,7 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   job.mutable_timings()->set_submitted_ms(row.submitted_ms);
   job.mutable_timings()->set_started_ms(row.started_ms);
   job.mutable_timings()->set_finished_ms(row.finished_ms);
+  job.mutable_timings()->set_run_ms(row.run_ms);
   for (size_t begin = 0; begin < row.results.size();) {
     const size_t end = std::min(row.results.find('\n', begin), row.results.size());
     job.add_result_artifacts(row.results.substr(begin, end - begin));
@@ -508,7 +522,9 @@ void JobQueue::CheckLease(const std::string& id, uint64_t token) const {
   RequireLease(id, token);
 }
 
-v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts) {
+v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
+                           double run_ms) {
+  if (!(run_ms >= 0)) throw Error(ErrorCode::kInvalidArgument, "run_ms " + std::to_string(run_ms) + " is negative");
   for (size_t i = 0; i < result_artifacts.size(); ++i) {
     CheckArtifactHash(result_artifacts[i], "result_artifacts[" + std::to_string(i) + "]");
   }
@@ -518,8 +534,8 @@ v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vec
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request (the finished results were discarded)", now);
   } else {
-    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1 WHERE seq = ?", JoinLines(result_artifacts),
-             row.seq);
+    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, run_ms = ? WHERE seq = ?",
+             JoinLines(result_artifacts), run_ms, row.seq);
     Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
   }
   v1::Job job = ToJob(RequireRow(id));

@@ -140,10 +140,12 @@ class JobQueue {
   void CheckLease(const std::string& id, uint64_t token) const;
 
   // Ends the lease successfully with the job's result artifact hashes (64 lowercase
-  // hex digits each, else kInvalidArgument). Returns the job as it ended: SUCCEEDED,
-  // or CANCELLED if a cancel was requested meanwhile. Stale token:
+  // hex digits each, else kInvalidArgument) and the worker's own time in the work
+  // (timings.run_ms; >= 0, else kInvalidArgument). Returns the job as it ended:
+  // SUCCEEDED, or CANCELLED if a cancel was requested meanwhile. Stale token:
   // kFailedPrecondition, nothing changes.
-  v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts);
+  v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
+                   double run_ms = 0);
 
   // Ends the lease as a failed attempt. The worker will not be given this job
   // again. Returns the job as it ended: QUEUED (retried), FAILED (attempts used up),

@@ -89,6 +89,8 @@ TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
   const v1::Job done = WaitUntilEnded(client, submitted.job().id());
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
   ASSERT_EQ(done.result_artifacts_size(), 1);
+  EXPECT_GT(done.timings().run_ms(), 0.0);  // the worker's own render time
+  EXPECT_LT(done.timings().run_ms(), static_cast<double>(done.timings().finished_ms() - done.timings().submitted_ms() + 1));
   const Image served = ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
 
   // The core render of the same scene with the same (cached) fitted fabric.

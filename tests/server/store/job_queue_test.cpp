@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "server/store/sqlite_db.h"
 #include "store_test_util.h"
 
 namespace loom::server {
@@ -243,11 +244,23 @@ TEST_F(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
   EXPECT_EQ(running.progress().stage(), "acquisition: view 16/64");
   EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, 1.5, "x"), ErrorCode::kInvalidArgument, "[0, 1]");
   EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, std::nan(""), "x"), ErrorCode::kInvalidArgument, "[0, 1]");
-  const auto done = queue_->Complete(id, lease.token, {kHash});
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}, -1), ErrorCode::kInvalidArgument, "run_ms");
+  const auto done = queue_->Complete(id, lease.token, {kHash}, 12.5);
   EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
   EXPECT_EQ(done.result_artifacts_size(), 1);
   EXPECT_EQ(done.result_artifacts(0), kHash);
   EXPECT_EQ(done.timings().finished_ms(), clock_.NowMs());
+  EXPECT_DOUBLE_EQ(done.timings().run_ms(), 12.5);
+}
+
+TEST_F(JobQueueTest, ADatabaseFromBeforeRunTimesGainsTheColumnWhenOpened) {
+  const auto id = queue_->Submit(Render()).id();
+  queue_.reset();
+  SqliteDb(dir_ / "jobs.db").Exec("ALTER TABLE jobs DROP COLUMN run_ms");
+  Reopen();
+  const JobLease lease = MustLease("w1");
+  ASSERT_EQ(lease.job.id(), id);
+  EXPECT_DOUBLE_EQ(queue_->Complete(id, lease.token, {kHash}, 7).timings().run_ms(), 7);
 }
 
 TEST_F(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
