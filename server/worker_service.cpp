@@ -25,6 +25,7 @@ grpc::Status WorkerService::RegisterWorker(grpc::ServerContext* context, const v
                                            v1::RegisterWorkerResponse* response) {
   return Guard(*context, state_.worker_token, "RegisterWorker", [&] {
     response->set_worker_id(state_.workers.Register(request->capabilities()));
+    state_.queue.WorkerSeen(response->worker_id());
     // Two heartbeats may be lost before the lease expires.
     response->set_heartbeat_interval_ms(
         static_cast<uint32_t>(std::max<int64_t>(state_.queue.options().lease_duration_ms / 3, 50)));
@@ -150,7 +151,9 @@ grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::Fail
   return Guard(*context, state_.worker_token, "FailJob", [&] {
     state_.queue.CheckLease(request->job_id(), request->fencing_token());
     AppendLog(state_.queue, request->job_id(), request->log_lines());
-    const v1::Job ended = state_.queue.Fail(request->job_id(), request->fencing_token(), request->error());
+    const Failure failure =
+        request->kind() == v1::FailJobRequest::KIND_PERMANENT ? Failure::kPermanent : Failure::kRetryable;
+    const v1::Job ended = state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
     ReleaseIfEnded(state_, ended);
     spdlog::info("job {}: attempt failed on {} ({}): {}", ended.id(), request->worker_id(),
                  v1::JobState_Name(ended.state()), request->error());

@@ -242,6 +242,7 @@ std::optional<v1::LeaseJobResponse> WorkerLoop::LeaseJob() {
 std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased,
                                            Lease& lease, double& run_ms) {
   const v1::Job& job = leased.job();
+  if (options_.before_job) options_.before_job(job);
   const auto timed = [&run_ms](auto&& work) {
     const auto start = std::chrono::steady_clock::now();
     auto result = work();
@@ -285,6 +286,9 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
 
   lease.Log(std::string(kind) + " on " + options_.label + " (" + runner.device().gl_renderer + ")");
   std::string failure;
+  // Bad input (the spec does not validate, a mesh does not parse) fails the same way
+  // on every worker: no retry.
+  bool permanent = false;
   try {
     double run_ms = 0;
     const std::vector<NamedFile> files = Execute(runner, fits, leased, lease, run_ms);
@@ -324,6 +328,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
     if (error.code() == ErrorCode::kUnavailable) throw;  // the server is gone: the lease will expire there
     if (error.code() == ErrorCode::kFailedPrecondition && lease.interruption() == Interruption::kLeaseLost) return;
     failure = error.what();
+    permanent = error.code() == ErrorCode::kInvalidArgument;
   } catch (const std::exception& error) {
     failure = std::string("internal error: ") + error.what();
   }
@@ -334,6 +339,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   fail.set_job_id(job.id());
   fail.set_fencing_token(lease.token());
   fail.set_error(failure);
+  fail.set_kind(permanent ? v1::FailJobRequest::KIND_PERMANENT : v1::FailJobRequest::KIND_RETRYABLE);
   for (std::string& line : lease.TakeLog()) fail.add_log_lines(std::move(line));
   grpc::ClientContext context;
   context.set_deadline(rpc::DeadlineIn(30s));

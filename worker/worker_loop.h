@@ -16,6 +16,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -34,6 +35,10 @@ struct WorkerOptions {
   std::chrono::milliseconds lease_wait{10'000};
   // Shown in logs and registered with the server, e.g. "local-0".
   std::string label = "worker";
+  // Called on the worker's thread before each job's work; what it throws fails the
+  // attempt as the work's own error would (a loom::Error kInvalidArgument as a
+  // permanent failure, anything else as a retryable one). Tests inject failures here.
+  std::function<void(const v1::Job&)> before_job;
 };
 
 class WorkerLoop {

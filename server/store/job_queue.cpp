@@ -226,6 +226,9 @@ JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, Jo
                 "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
   }
   db_->Exec(kSchema);
+  // Live workers, in memory only (TEMP): a restarted server learns them again as
+  // they register and lease.
+  db_->Exec("CREATE TEMP TABLE live_workers (worker_id TEXT PRIMARY KEY, seen_ms INTEGER NOT NULL)");
   AddColumnIfMissing(*db_, "jobs", "run_ms", "REAL NOT NULL DEFAULT 0");
   {
     auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
@@ -451,9 +454,16 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
       "SELECT seq FROM jobs j WHERE state = ?1 "
       "AND NOT EXISTS (SELECT 1 FROM job_deps d JOIN jobs p ON p.seq = d.dep_seq "
       "                WHERE d.job_seq = j.seq AND p.state != ?2) "
-      "AND NOT EXISTS (SELECT 1 FROM job_failed_workers f WHERE f.job_seq = j.seq AND f.worker_id = ?3) "
+      // Not a job this worker failed, unless no other live worker that has not
+      // failed it could take it.
+      "AND NOT (EXISTS (SELECT 1 FROM job_failed_workers f WHERE f.job_seq = j.seq AND f.worker_id = ?3) "
+      "         AND EXISTS (SELECT 1 FROM temp.live_workers l WHERE l.worker_id != ?3 AND l.seen_ms > ?4 "
+      "                     AND l.worker_id NOT IN (SELECT worker_id FROM job_failed_workers g "
+      "                                             WHERE g.job_seq = j.seq))) "
       "ORDER BY priority DESC, seq LIMIT 1",
-      static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED), worker_id);
+      static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED), worker_id,
+      clock_.NowMs() - options_.lease_duration_ms);
+  NoteWorkerLocked(worker_id, clock_.NowMs());
   if (!next.Step()) return std::nullopt;
   const int64_t seq = next.Int(0);
   const int64_t now = clock_.NowMs();
@@ -474,11 +484,22 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
   return JobLease{ToJob(row), token, deadline};
 }
 
+void JobQueue::NoteWorkerLocked(const std::string& worker_id, int64_t now_ms) {
+  db_->Run("INSERT OR REPLACE INTO temp.live_workers (worker_id, seen_ms) VALUES (?, ?)", worker_id, now_ms);
+}
+
+void JobQueue::WorkerSeen(const std::string& worker_id) {
+  if (worker_id.empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id is empty");
+  Txn txn(*this);
+  NoteWorkerLocked(worker_id, clock_.NowMs());
+  txn.Commit();
+}
+
 std::optional<JobLease> JobQueue::Lease(const std::string& worker_id) {
   if (worker_id.empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id is empty");
   Txn txn(*this);
   auto lease = LeaseLocked(worker_id);
-  if (lease) txn.Commit();
+  txn.Commit();  // the worker was seen, leased or not
   return lease;
 }
 
@@ -506,6 +527,7 @@ HeartbeatStatus JobQueue::Heartbeat(const std::string& id, uint64_t token, doubl
   const Row row = RequireRow(id);
   if (!row.leased() || row.lease_token != token) return HeartbeatStatus::kStaleToken;
   const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   const bool moved = fraction != row.progress_fraction || stage != row.progress_stage;
   db_->Run(
       "UPDATE jobs SET state = ?, progress_fraction = ?, progress_stage = ?, lease_deadline_ms = ?, "
@@ -531,6 +553,7 @@ v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vec
   Txn txn(*this);
   const Row row = RequireLease(id, token);
   const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request (the finished results were discarded)", now);
   } else {
@@ -543,13 +566,21 @@ v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vec
   return job;
 }
 
-v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string& error) {
+v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string& error, Failure failure) {
   Txn txn(*this);
   const Row row = RequireLease(id, token);
+  const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   db_->Run("INSERT OR IGNORE INTO job_failed_workers (job_seq, worker_id) VALUES (?, ?)", row.seq, row.worker_id);
-  EndAttempt(row, (error.empty() ? "worker reported a failure without a message" : error) + " (worker " +
-                      row.worker_id + ")",
-             clock_.NowMs());
+  const std::string message =
+      (error.empty() ? "worker reported a failure without a message" : error) + " (worker " + row.worker_id + ")";
+  if (failure == Failure::kPermanent && !row.cancel_requested) {
+    WriteLog(row.seq, "[queue] attempt " + std::to_string(row.attempts) + " failed permanently (bad input, not retried): " +
+                          message);
+    Finish(row, v1::JOB_STATE_FAILED, message, now);
+  } else {
+    EndAttempt(row, message, now);
+  }
   v1::Job job = ToJob(RequireRow(id));
   txn.Commit();
   return job;

@@ -7,7 +7,10 @@
 //
 // States: QUEUED -> LEASED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED.
 // - Lease gives the highest-priority job (FIFO within a priority) whose dependencies
-//   all SUCCEEDED and which the asking worker has not failed before. Each lease
+//   all SUCCEEDED. A worker that failed a job is not given it again while another
+//   live worker (seen within the lease duration: leasing, heartbeating, reporting or
+//   just registered) that has not failed it exists; when there is none, the job goes
+//   back to a worker that failed it, so a farm of one still uses every attempt. Each lease
 //   carries a fencing token, unique and increasing across the queue's lifetime:
 //   Heartbeat, Complete, Fail and CheckLease must present the current one, so a
 //   worker whose lease expired (or was voided by a server restart) can never report
@@ -16,7 +19,8 @@
 //   being stuck (heartbeats, but progress has not moved for `stuck_after_ms`), or a
 //   server restart (every LEASED/RUNNING job is requeued when the queue is opened).
 //   Every way but Complete is a failed attempt: the job is requeued while
-//   attempts < max_attempts, otherwise it ends FAILED with the last error.
+//   attempts < max_attempts, otherwise it ends FAILED with the last error. A
+//   failure the worker knows to be permanent (bad input) ends the job FAILED at once.
 // - A job that ends FAILED or CANCELLED fails every job that depends on it
 //   (transitively), with an error naming the dependency.
 // - Cancel: a QUEUED job is CANCELLED at once. A leased one gets cancel_requested;
@@ -69,6 +73,12 @@ enum class HeartbeatStatus {
   kOk,               // lease extended; keep working
   kCancelRequested,  // lease extended; stop, then Fail() to end the job CANCELLED
   kStaleToken,       // the lease is gone (expired, requeued, finished): drop the job
+};
+
+// How a worker's failure of a job counts.
+enum class Failure {
+  kRetryable,  // a failed attempt: retried while attempts remain
+  kPermanent,  // bad input (the spec does not validate, a mesh does not parse): FAILED now
 };
 
 struct JobFilter {
@@ -147,10 +157,16 @@ class JobQueue {
   v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
                    double run_ms = 0);
 
-  // Ends the lease as a failed attempt. The worker will not be given this job
-  // again. Returns the job as it ended: QUEUED (retried), FAILED (attempts used up),
-  // or CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
-  v1::Job Fail(const std::string& id, uint64_t token, const std::string& error);
+  // Ends the lease as a failed attempt. The worker is not given this job again
+  // while another live worker could take it (see above). Returns the job as it
+  // ended: QUEUED (retried), FAILED (attempts used up, or a permanent failure), or
+  // CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
+  v1::Job Fail(const std::string& id, uint64_t token, const std::string& error,
+               Failure failure = Failure::kRetryable);
+
+  // Marks `worker_id` live now (RegisterWorker); leasing, heartbeats and reports
+  // do it too.
+  void WorkerSeen(const std::string& worker_id);
 
   // Ends every lease past its deadline or stuck, as failed attempts. Call it from a
   // timer (every second or so). Returns how many leases it ended.
@@ -203,6 +219,7 @@ class JobQueue {
   v1::Job ToJob(const Row& row) const;
   v1::Job InsertJob(const v1::Job& job, int64_t now_ms);
   std::optional<JobLease> LeaseLocked(const std::string& worker_id);
+  void NoteWorkerLocked(const std::string& worker_id, int64_t now_ms);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
   void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
   // Ends every unfinished job depending on `dependency_seq` FAILED with `error`, transitively.

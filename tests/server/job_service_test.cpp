@@ -219,6 +219,36 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
 }
 
+// A local worker whose first job's work throws `failure` (then works normally).
+ServerOptions FailingFirstJob(std::function<void()> failure) {
+  ServerOptions options;
+  options.local_workers = 1;
+  options.local_worker.before_job = [failure, failed = std::make_shared<std::atomic<bool>>(false)](const v1::Job&) {
+    if (!failed->exchange(true)) failure();
+  };
+  return options;
+}
+
+TEST_F(ServiceTest, AJobFailingTransientlyOnTheOnlyWorkerSucceedsOnItsSecondAttempt) {
+  StartServer(FailingFirstJob([] { throw std::runtime_error("injected: out of GPU memory"); }));
+  client::JobClient client = Client();
+  const v1::Job done = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.attempts(), 2u);
+  std::string log;
+  for (const std::string& line : client.Log(done.id())) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("attempt 1 of 3 failed: internal error: injected: out of GPU memory")) << log;
+}
+
+TEST_F(ServiceTest, APermanentFailureEndsTheJobFailedAtOnceWithItsError) {
+  StartServer(FailingFirstJob([] { throw Error(ErrorCode::kInvalidArgument, "injected: mesh does not parse"); }));
+  client::JobClient client = Client();
+  const v1::Job done = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(done.attempts(), 1u);
+  EXPECT_THAT(done.error(), HasSubstr("injected: mesh does not parse"));
+}
+
 // A precompute big enough to still be running when a test interrupts it.
 v1::SubmitJobRequest SlowPrecomputeRequest() {
   v1::SubmitJobRequest request = PrecomputeRequest();

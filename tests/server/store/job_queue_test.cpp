@@ -287,13 +287,41 @@ TEST_F(JobQueueTest, ExpiryCountsAsAnAttempt) {
   EXPECT_NE(queue_->Get(id).error().find("lease expired"), std::string::npos);
 }
 
-TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgain) {
+TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgainWhileAnotherLiveWorkerCouldTakeIt) {
   const auto id = queue_->Submit(Render()).id();
+  queue_->WorkerSeen("w2");
   queue_->Fail(id, MustLease("w1").token, "out of GPU memory");
   EXPECT_FALSE(queue_->Lease("w1").has_value());
   const JobLease other = MustLease("w2");
   EXPECT_EQ(other.job.id(), id);
   EXPECT_EQ(other.job.error(), "out of GPU memory (worker w1)");
+}
+
+TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
+  const auto id = queue_->Submit(Render()).id();
+  queue_->WorkerSeen("w2");
+  queue_->Fail(id, MustLease("w1").token, "transient 1");
+  EXPECT_FALSE(queue_->Lease("w1").has_value());  // w2 is live and has not failed it
+  clock_.Advance(30'001);                          // w2 not seen for a lease duration: gone
+  const JobLease second = MustLease("w1");
+  EXPECT_EQ(second.job.attempts(), 2u);
+  queue_->Fail(id, second.token, "transient 2");
+  // A worker that failed it too does not keep it from w1.
+  queue_->WorkerSeen("w2");
+  queue_->Fail(id, MustLease("w2").token, "transient 3");
+  const auto failed = queue_->Get(id);
+  EXPECT_EQ(failed.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(failed.error(), "transient 3 (worker w2)");
+}
+
+TEST_F(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
+  const auto id = queue_->Submit(Render()).id();
+  const auto ended = queue_->Fail(id, MustLease("w1").token, "scene.render.width: 0 is below 1", Failure::kPermanent);
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(ended.attempts(), 1u);
+  EXPECT_EQ(ended.max_attempts(), 3u);
+  EXPECT_EQ(ended.error(), "scene.render.width: 0 is below 1 (worker w1)");
+  EXPECT_FALSE(queue_->Lease("w2").has_value());
 }
 
 TEST_F(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
