@@ -153,7 +153,10 @@ grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::Fail
     AppendLog(state_.queue, request->job_id(), request->log_lines());
     const Failure failure =
         request->kind() == v1::FailJobRequest::KIND_PERMANENT ? Failure::kPermanent : Failure::kRetryable;
-    const v1::Job ended = state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
+    const v1::Job ended =
+        request->kind() == v1::FailJobRequest::KIND_HANDED_BACK
+            ? state_.queue.HandBack(request->job_id(), request->fencing_token(), request->error())
+            : state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
     ReleaseIfEnded(state_, ended);
     spdlog::info("job {}: attempt failed on {} ({}): {}", ended.id(), request->worker_id(),
                  v1::JobState_Name(ended.state()), request->error());

@@ -288,7 +288,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   std::string failure;
   // Bad input (the spec does not validate, a mesh does not parse) fails the same way
   // on every worker: no retry.
-  bool permanent = false;
+  v1::FailJobRequest::Kind fail_kind = v1::FailJobRequest::KIND_RETRYABLE;
   try {
     double run_ms = 0;
     const std::vector<NamedFile> files = Execute(runner, fits, leased, lease, run_ms);
@@ -322,13 +322,16 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
         spdlog::warn("{}: job {}: the lease was lost; dropping it", options_.label, job.id());
         return;
       case Interruption::kCancelled: failure = "cancelled on request"; break;
-      default: failure = "handed back: worker " + options_.label + " is stopping"; break;
+      default:
+        failure = "handed back: worker " + options_.label + " is stopping";
+        fail_kind = v1::FailJobRequest::KIND_HANDED_BACK;
+        break;
     }
   } catch (const Error& error) {
     if (error.code() == ErrorCode::kUnavailable) throw;  // the server is gone: the lease will expire there
     if (error.code() == ErrorCode::kFailedPrecondition && lease.interruption() == Interruption::kLeaseLost) return;
     failure = error.what();
-    permanent = error.code() == ErrorCode::kInvalidArgument;
+    if (error.code() == ErrorCode::kInvalidArgument) fail_kind = v1::FailJobRequest::KIND_PERMANENT;
   } catch (const std::exception& error) {
     failure = std::string("internal error: ") + error.what();
   }
@@ -339,7 +342,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   fail.set_job_id(job.id());
   fail.set_fencing_token(lease.token());
   fail.set_error(failure);
-  fail.set_kind(permanent ? v1::FailJobRequest::KIND_PERMANENT : v1::FailJobRequest::KIND_RETRYABLE);
+  fail.set_kind(fail_kind);
   for (std::string& line : lease.TakeLog()) fail.add_log_lines(std::move(line));
   grpc::ClientContext context;
   context.set_deadline(rpc::DeadlineIn(30s));

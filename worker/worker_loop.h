@@ -9,7 +9,7 @@
 // When the server cannot be reached the loop retries with exponential backoff
 // (100 ms doubling to 5 s) and registers again. Stop() ends it: no new lease; a
 // precompute in progress stops at its next progress report and is handed back
-// (FailJob, so the queue requeues it for another worker); a render finishes.
+// (FailJob KIND_HANDED_BACK: requeued without using up an attempt); a render finishes.
 
 #include <grpcpp/channel.h>
 

@@ -586,6 +586,26 @@ v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string&
   return job;
 }
 
+v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::string& reason) {
+  Txn txn(*this);
+  const Row row = RequireLease(id, token);
+  const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
+  if (row.cancel_requested) {
+    Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request", now);
+  } else {
+    db_->Run(
+        "UPDATE jobs SET state = ?, attempts = attempts - 1, worker_id = '', lease_token = 0, lease_deadline_ms = 0 "
+        "WHERE seq = ?",
+        static_cast<int>(v1::JOB_STATE_QUEUED), row.seq);
+    WriteLog(row.seq, "[queue] handed back by worker " + row.worker_id + " (" + reason +
+                          "); requeued, the attempt not counted");
+  }
+  v1::Job job = ToJob(RequireRow(id));
+  txn.Commit();
+  return job;
+}
+
 int JobQueue::RequeueExpired() {
   Txn txn(*this);
   const int64_t now = clock_.NowMs();

@@ -15,10 +15,10 @@
 //   Heartbeat, Complete, Fail and CheckLease must present the current one, so a
 //   worker whose lease expired (or was voided by a server restart) can never report
 //   on the job again, and a job never completes twice.
-// - A lease ends by Complete, Fail, expiry (no heartbeat before the deadline),
+// - A lease ends by Complete, Fail, HandBack, expiry (no heartbeat before the deadline),
 //   being stuck (heartbeats, but progress has not moved for `stuck_after_ms`), or a
 //   server restart (every LEASED/RUNNING job is requeued when the queue is opened).
-//   Every way but Complete is a failed attempt: the job is requeued while
+//   Every way but Complete and HandBack is a failed attempt: the job is requeued while
 //   attempts < max_attempts, otherwise it ends FAILED with the last error. A
 //   failure the worker knows to be permanent (bad input) ends the job FAILED at once.
 // - A job that ends FAILED or CANCELLED fails every job that depends on it
@@ -163,6 +163,13 @@ class JobQueue {
   // CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
   v1::Job Fail(const std::string& id, uint64_t token, const std::string& error,
                Failure failure = Failure::kRetryable);
+
+  // Ends the lease without it counting as an attempt: a worker that is stopping
+  // (SIGTERM) gives the job back unfinished through no fault of the job's. The job
+  // is QUEUED again with the attempt given back (CANCELLED if a cancel was
+  // requested), and any worker may take it, this one too. `reason` goes to the
+  // log. Stale token: kFailedPrecondition.
+  v1::Job HandBack(const std::string& id, uint64_t token, const std::string& reason);
 
   // Marks `worker_id` live now (RegisterWorker); leasing, heartbeats and reports
   // do it too.

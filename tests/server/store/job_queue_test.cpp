@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cmath>
 #include <latch>
@@ -312,6 +313,34 @@ TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
   const auto failed = queue_->Get(id);
   EXPECT_EQ(failed.state(), v1::JOB_STATE_FAILED);
   EXPECT_EQ(failed.error(), "transient 3 (worker w2)");
+}
+
+TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
+  auto job = Render();
+  job.set_max_attempts(1);
+  const auto id = queue_->Submit(job).id();
+  queue_->WorkerSeen("w2");
+  for (int stop = 0; stop < 3; ++stop) {
+    const JobLease lease = MustLease("w1");  // the same worker: a hand-back excludes no one
+    EXPECT_EQ(lease.job.attempts(), 1u);
+    const auto requeued = queue_->HandBack(id, lease.token, "worker w1 is stopping");
+    EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+    EXPECT_EQ(requeued.attempts(), 0u);
+    EXPECT_LOOM_ERROR(queue_->HandBack(id, lease.token, "again"), ErrorCode::kFailedPrecondition, "stale");
+  }
+  const JobLease last = MustLease("w1");
+  EXPECT_EQ(queue_->Complete(id, last.token, {kHash}).state(), v1::JOB_STATE_SUCCEEDED);
+  const auto log = queue_->Log(id, 0);
+  EXPECT_NE(std::find(log.begin(), log.end(),
+                      "[queue] handed back by worker w1 (worker w1 is stopping); requeued, the attempt not counted"),
+            log.end());
+}
+
+TEST_F(JobQueueTest, AHandBackAfterACancelRequestEndsCancelled) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  queue_->Cancel(id);
+  EXPECT_EQ(queue_->HandBack(id, lease.token, "stopping").state(), v1::JOB_STATE_CANCELLED);
 }
 
 TEST_F(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
