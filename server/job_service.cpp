@@ -16,10 +16,6 @@ using namespace std::chrono_literals;
 
 constexpr size_t kMinKeyPrefix = 8;
 
-bool IsTerminal(v1::JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
-
 }  // namespace
 
 v1::CachedFabric ToCachedFabric(const FabricEntry& entry) {
@@ -101,7 +97,6 @@ grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::Cance
                                    v1::Job* response) {
   return Guard(*context, state_.client_token, "CancelJob", [&] {
     *response = state_.queue.Cancel(request->job_id());
-    ReleaseIfEnded(state_, *response);
     spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
   });
 }

@@ -128,7 +128,12 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
     }
   }
   *response.mutable_job() = queue.Submit(job);
-  for (const std::string& hash : meshes) artifacts.Pin(hash, JobPinOwner(response.job().id()));
+  // Held until the job ends (ServiceState releases them then). A job that ended
+  // before they were taken (at once, on a failed dependency, or raced to the end)
+  // would never release them: release them here.
+  const std::string owner = JobPinOwner(response.job().id());
+  for (const std::string& hash : meshes) artifacts.Pin(hash, owner);
+  if (IsTerminal(queue.Get(response.job().id()).state())) artifacts.UnpinAll(owner);
   spdlog::info("job {}: render '{}' ({} fabric precompute(s) to wait for)", response.job().id(), scene.name(),
                response.dependencies_size());
   return response;

@@ -140,7 +140,6 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }
     const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes, request->run_ms());
-    ReleaseIfEnded(state_, ended);
     spdlog::info("job {}: {} by {}", id, v1::JobState_Name(ended.state()), request->worker_id());
     if (job.kind() == v1::JOB_KIND_PRECOMPUTE) state_.cache.Evict();
   });
@@ -157,7 +156,6 @@ grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::Fail
         request->kind() == v1::FailJobRequest::KIND_HANDED_BACK
             ? state_.queue.HandBack(request->job_id(), request->fencing_token(), request->error())
             : state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
-    ReleaseIfEnded(state_, ended);
     spdlog::info("job {}: attempt failed on {} ({}): {}", ended.id(), request->worker_id(),
                  v1::JobState_Name(ended.state()), request->error());
   });

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 
 #include "core/util/error.h"
 #include "server/store/artifact_store.h"
@@ -92,10 +93,6 @@ std::optional<int64_t> ParseJobId(std::string_view id) {
 // "SUCCEEDED" rather than "JOB_STATE_SUCCEEDED" in messages.
 std::string StateName(JobState state) { return v1::JobState_Name(state).substr(std::string_view("JOB_STATE_").size()); }
 
-bool IsTerminal(JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
-
 // The payload alone, serialised deterministically: stored, and compared when a
 // client request id is reused.
 std::string PayloadBytes(const v1::Job& job) {
@@ -135,6 +132,10 @@ void AddColumnIfMissing(SqliteDb& db, const std::string& table, const std::strin
 }
 
 }  // namespace
+
+bool IsTerminal(JobState state) {
+  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
+}
 
 // The mutable columns of one job row, read in one query.
 struct JobQueue::Row {
@@ -202,14 +203,21 @@ struct JobQueue::Row {
 };
 
 // A change to the queue: holds the mutex and a write transaction; Commit() makes
-// it durable and wakes every waiter. Destroyed uncommitted (an exception), it
-// rolls back and leaves the queue as it was.
+// it durable, wakes every waiter, releases the mutex and then tells the ended-job
+// listener about the jobs the change ended. Destroyed uncommitted (an exception),
+// it rolls back and leaves the queue as it was.
 class JobQueue::Txn {
  public:
-  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) {}
+  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) { queue_.ended_.clear(); }
   void Commit() {
     txn_.Commit();
     queue_.changed_.notify_all();
+    const auto ended = std::exchange(queue_.ended_, {});
+    const auto listener = queue_.on_ended_;
+    lock_.unlock();
+    if (listener) {
+      for (const auto& [id, kind] : ended) listener(id, kind);
+    }
   }
 
  private:
@@ -374,6 +382,7 @@ void JobQueue::Finish(const Row& row, JobState state, const std::string& error, 
       "lease_deadline_ms = 0 WHERE seq = ?",
       static_cast<int>(state), error, now_ms, row.seq);
   WriteLog(row.seq, "[queue] " + StateName(state) + (error.empty() ? "" : ": " + error));
+  ended_.emplace_back(row.id(), row.kind);
   if (state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED) {
     FailDependants(row.seq, DependencyError(row.id(), state, error), now_ms);
   }
@@ -743,6 +752,11 @@ std::optional<uint64_t> JobQueue::WaitForChange(const std::string& id, uint64_t 
     return std::nullopt;
   }
   return version_;
+}
+
+void JobQueue::OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener) {
+  std::lock_guard lock(mu_);
+  on_ended_ = std::move(listener);
 }
 
 void JobQueue::Shutdown() {

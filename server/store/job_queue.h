@@ -40,6 +40,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -80,6 +81,9 @@ enum class Failure {
   kRetryable,  // a failed attempt: retried while attempts remain
   kPermanent,  // bad input (the spec does not validate, a mesh does not parse): FAILED now
 };
+
+// SUCCEEDED, FAILED or CANCELLED: the job will not change again.
+bool IsTerminal(v1::JobState state);
 
 struct JobFilter {
   std::vector<v1::JobState> states;  // empty: any state
@@ -211,6 +215,15 @@ class JobQueue {
   std::optional<uint64_t> WaitForChange(const std::string& id, uint64_t seen_version,
                                         std::chrono::steady_clock::time_point deadline) const;
 
+  // --- Endings -------------------------------------------------------------------
+
+  // `listener` is called once for every job that reaches SUCCEEDED, FAILED or
+  // CANCELLED, however it gets there (a worker's report, a cancel, an expired
+  // lease's last attempt, a failed dependency), after the change is committed and
+  // without the queue's lock held: what the server holds for a job (its meshes'
+  // pins) is released there. Set it once, before the queue is used by others.
+  void OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener);
+
   // Wakes every waiter (LeaseWait, WaitForChange) and makes later waits return at
   // once, so that server shutdown is not held up by long polls.
   void Shutdown();
@@ -239,6 +252,9 @@ class JobQueue {
   mutable std::mutex mu_;
   mutable std::condition_variable changed_;
   std::unique_ptr<SqliteDb> db_;
+  std::function<void(const std::string&, v1::JobKind)> on_ended_;
+  // Jobs ended by the open Txn, for on_ended_ once it commits.
+  std::vector<std::pair<std::string, v1::JobKind>> ended_;
   uint64_t version_ = 0;
   bool shutdown_ = false;
 };
