@@ -87,13 +87,24 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   v1::SubmitJobResponse response;
   if (request.payload_case() == v1::SubmitJobRequest::kPrecompute) {
     v1::Job job = CheckedPrecompute(request);
+    job.set_priority(request.priority());
+    job.set_client_request_id(request.client_request_id());
+    // A fabric already cached is not fitted again: the answer is a job that
+    // SUCCEEDED at once with the cached files, so that scripts and the CLI see the
+    // usual submit-then-done, and the history shows the request.
+    if (const std::optional<FabricEntry> cached = cache.Get(job.fabric_key())) {
+      std::vector<std::string> files;
+      for (const FabricFile& file : cached->files) files.push_back(file.hash);
+      *response.mutable_job() = queue.SubmitDone(
+          job, files, "fabric " + job.fabric_key() + " is already cached: nothing to compute (loom cache rm to refit)");
+      spdlog::info("job {}: precompute of fabric {} answered from the cache", response.job().id(), job.fabric_key());
+      return response;
+    }
     // An explicit precompute joins one already running for the same fabric, unless
     // the client names its own request id (then the id decides what is a retry).
     if (request.client_request_id().empty()) {
       *response.mutable_job() = queue.SubmitPrecomputeOnce(job.precompute(), job.fabric_key(), request.priority());
     } else {
-      job.set_priority(request.priority());
-      job.set_client_request_id(request.client_request_id());
       *response.mutable_job() = queue.Submit(job);
     }
     spdlog::info("job {}: precompute of fabric {}", response.job().id(), response.job().fabric_key());

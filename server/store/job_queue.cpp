@@ -400,7 +400,7 @@ void JobQueue::FailDependants(int64_t dependency_seq, const std::string& error, 
 
 // --- Submitting -----------------------------------------------------------------------
 
-v1::Job JobQueue::Submit(const v1::Job& job) {
+void JobQueue::CheckSubmission(const v1::Job& job) {
   const bool payload_matches =
       (job.kind() == v1::JOB_KIND_PRECOMPUTE && job.has_precompute()) ||
       (job.kind() == v1::JOB_KIND_RENDER && job.has_render());
@@ -412,19 +412,45 @@ v1::Job JobQueue::Submit(const v1::Job& job) {
     throw Error(ErrorCode::kInvalidArgument,
                 "job.max_attempts: " + std::to_string(job.max_attempts()) + " exceeds " + std::to_string(kMaxAttemptsCap));
   }
-  Txn txn(*this);
-  if (!job.client_request_id().empty()) {
-    auto existing = db_->Query("SELECT seq FROM jobs WHERE client_request_id = ?", job.client_request_id());
-    if (existing.Step()) {
-      const Row row = RequireRow(JobId(existing.Int(0)));
-      if (row.kind != job.kind() || row.payload != PayloadBytes(job)) {
-        throw Error(ErrorCode::kInvalidArgument, "client_request_id '" + job.client_request_id() +
-                                                     "' was already used for a different job (" + row.id() + ")");
-      }
-      return ToJob(row);
-    }
+}
+
+std::optional<v1::Job> JobQueue::FindRetry(const v1::Job& job) const {
+  if (job.client_request_id().empty()) return std::nullopt;
+  auto existing = db_->Query("SELECT seq FROM jobs WHERE client_request_id = ?", job.client_request_id());
+  if (!existing.Step()) return std::nullopt;
+  const Row row = RequireRow(JobId(existing.Int(0)));
+  if (row.kind != job.kind() || row.payload != PayloadBytes(job)) {
+    throw Error(ErrorCode::kInvalidArgument, "client_request_id '" + job.client_request_id() +
+                                                 "' was already used for a different job (" + row.id() + ")");
   }
+  return ToJob(row);
+}
+
+v1::Job JobQueue::Submit(const v1::Job& job) {
+  CheckSubmission(job);
+  Txn txn(*this);
+  if (auto retry = FindRetry(job)) return *retry;
   v1::Job stored = InsertJob(job, clock_.NowMs());
+  txn.Commit();
+  return stored;
+}
+
+v1::Job JobQueue::SubmitDone(const v1::Job& job, const std::vector<std::string>& result_artifacts,
+                             const std::string& note) {
+  CheckSubmission(job);
+  for (size_t i = 0; i < result_artifacts.size(); ++i) {
+    CheckArtifactHash(result_artifacts[i], "result_artifacts[" + std::to_string(i) + "]");
+  }
+  Txn txn(*this);
+  if (auto retry = FindRetry(job)) return *retry;
+  const int64_t now = clock_.NowMs();
+  const v1::Job inserted = InsertJob(job, now);
+  const Row row = RequireRow(inserted.id());
+  db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, started_ms = ? WHERE seq = ?",
+           JoinLines(result_artifacts), now, row.seq);
+  WriteLog(row.seq, "[queue] " + note);
+  Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
+  v1::Job stored = ToJob(RequireRow(inserted.id()));
   txn.Commit();
   return stored;
 }

@@ -125,6 +125,12 @@ class JobQueue {
   // stored and returned FAILED at once, naming it.
   v1::Job Submit(const v1::Job& job);
 
+  // A job with nothing left to do (a precompute whose fabric is already cached):
+  // checked and stored as Submit does (client_request_id included), but SUCCEEDED
+  // at once with `result_artifacts` (64-hex hashes) and `note` in its log; it is
+  // never leased.
+  v1::Job SubmitDone(const v1::Job& job, const std::vector<std::string>& result_artifacts, const std::string& note);
+
   // The precompute job that will produce fabric `fabric_key`: an active one
   // (QUEUED, LEASED or RUNNING) for that key is joined, otherwise one is created;
   // atomic, so concurrent callers get one job. A joined QUEUED job's priority is
@@ -238,6 +244,11 @@ class JobQueue {
   Row RequireLease(const std::string& id, uint64_t token) const;
   v1::Job ToJob(const Row& row) const;
   v1::Job InsertJob(const v1::Job& job, int64_t now_ms);
+  // Submit's checks of `job`, outside the lock.
+  static void CheckSubmission(const v1::Job& job);
+  // The job already stored under `job`'s client_request_id (kInvalidArgument if it
+  // is a different job), nullopt when there is none.
+  std::optional<v1::Job> FindRetry(const v1::Job& job) const;
   std::optional<JobLease> LeaseLocked(const std::string& worker_id);
   void NoteWorkerLocked(const std::string& worker_id, int64_t now_ms);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);

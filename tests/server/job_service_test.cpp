@@ -79,6 +79,25 @@ TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
 
+TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) {
+  StartServer();
+  client::JobClient client = Client();
+  const v1::Job first = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(first.state(), v1::JOB_STATE_SUCCEEDED) << first.error();
+
+  const v1::Job again = client.Submit(PrecomputeRequest()).job();
+  EXPECT_NE(again.id(), first.id());
+  EXPECT_EQ(again.state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(again.attempts(), 0u);  // never leased
+  EXPECT_EQ(again.fabric_key(), first.fabric_key());
+  EXPECT_THAT(std::vector<std::string>(again.result_artifacts().begin(), again.result_artifacts().end()),
+              ::testing::UnorderedElementsAreArray(first.result_artifacts()));
+  std::string log;
+  for (const std::string& line : client.Log(again.id())) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("is already cached: nothing to compute")) << log;
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
 TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
   StartServer();
   client::JobClient client = Client();
