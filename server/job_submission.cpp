@@ -77,6 +77,13 @@ v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
 
 std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
 
+v1::Job SubmitFabricPrecompute(const SceneFabric& fabric, int32_t priority, JobQueue& queue) {
+  v1::PrecomputeJob precompute;
+  *precompute.mutable_fabric() = fabric.fabric;
+  *precompute.mutable_settings() = fabric.settings;
+  return queue.SubmitPrecomputeOnce(precompute, fabric.key, priority);
+}
+
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
                                 FabricCache& cache) {
   CheckNoUnknownFields(request, "request");
@@ -130,10 +137,7 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   if (full.render().method() == v1::RENDER_METHOD_SVBRDF) {
     for (const SceneFabric& fabric : SceneFabrics(full)) {
       if (cache.Get(fabric.key)) continue;
-      v1::PrecomputeJob precompute;
-      *precompute.mutable_fabric() = fabric.fabric;
-      *precompute.mutable_settings() = fabric.settings;
-      v1::Job dependency = queue.SubmitPrecomputeOnce(precompute, fabric.key, request.priority());
+      v1::Job dependency = SubmitFabricPrecompute(fabric, request.priority(), queue);
       job.add_depends_on(dependency.id());
       *response.add_dependencies() = std::move(dependency);
     }

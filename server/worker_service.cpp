@@ -9,6 +9,7 @@
 #include "server/artifact_upload.h"
 #include "server/call_guard.h"
 #include "server/job_service.h"
+#include "server/job_submission.h"
 
 namespace loom::server {
 namespace {
@@ -38,9 +39,13 @@ bool WorkerService::ResolveFabrics(const JobLease& lease, v1::LeaseJobResponse& 
   for (const SceneFabric& fabric : SceneFabrics(scene)) {
     const std::optional<FabricEntry> entry = state_.cache.Get(fabric.key);
     if (!entry) {
-      // Evicted (or found corrupt) after its precompute succeeded.
-      state_.queue.Fail(lease.job.id(), lease.token,
-                        "fabric " + fabric.key + " left the cache before the render ran; submit the render again");
+      // Evicted (or found corrupt) after its precompute succeeded: precompute it
+      // again (joined as usual) and let the render wait for it, its attempt unused.
+      const v1::Job precompute = SubmitFabricPrecompute(fabric, lease.job.priority(), state_.queue);
+      state_.queue.HandBack(lease.job.id(), lease.token,
+                            "fabric " + fabric.key + " left the cache before the render ran", precompute.id());
+      spdlog::info("job {}: fabric {} left the cache; waits for precompute {}", lease.job.id(), fabric.key,
+                   precompute.id());
       return false;
     }
     v1::FabricAsset& asset = *response.add_fabrics();

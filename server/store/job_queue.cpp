@@ -621,7 +621,8 @@ v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string&
   return job;
 }
 
-v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::string& reason) {
+v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::string& reason,
+                           const std::string& wait_for) {
   Txn txn(*this);
   const Row row = RequireLease(id, token);
   const int64_t now = clock_.NowMs();
@@ -633,8 +634,13 @@ v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::str
         "UPDATE jobs SET state = ?, attempts = attempts - 1, worker_id = '', lease_token = 0, lease_deadline_ms = 0 "
         "WHERE seq = ?",
         static_cast<int>(v1::JOB_STATE_QUEUED), row.seq);
-    WriteLog(row.seq, "[queue] handed back by worker " + row.worker_id + " (" + reason +
-                          "); requeued, the attempt not counted");
+    const std::optional<Row> dependency = wait_for.empty() ? std::nullopt : std::optional(RequireRow(wait_for));
+    if (dependency) db_->Run("INSERT INTO job_deps (job_seq, dep_seq) VALUES (?, ?)", row.seq, dependency->seq);
+    WriteLog(row.seq, "[queue] handed back by worker " + row.worker_id + " (" + reason + "); requeued" +
+                          (dependency ? " to wait for " + wait_for : "") + ", the attempt not counted");
+    if (dependency && (dependency->state == v1::JOB_STATE_FAILED || dependency->state == v1::JOB_STATE_CANCELLED)) {
+      Finish(*FindRow(id), v1::JOB_STATE_FAILED, DependencyError(wait_for, dependency->state, dependency->error), now);
+    }
   }
   v1::Job job = ToJob(RequireRow(id));
   txn.Commit();

@@ -178,8 +178,11 @@ class JobQueue {
   // (SIGTERM) gives the job back unfinished through no fault of the job's. The job
   // is QUEUED again with the attempt given back (CANCELLED if a cancel was
   // requested), and any worker may take it, this one too. `reason` goes to the
-  // log. Stale token: kFailedPrecondition.
-  v1::Job HandBack(const std::string& id, uint64_t token, const std::string& reason);
+  // log. `wait_for`, if not empty, names a job that the requeued one then depends
+  // on too (a render whose fabric left the cache waits for its new precompute).
+  // Stale token: kFailedPrecondition; unknown `wait_for`: kNotFound.
+  v1::Job HandBack(const std::string& id, uint64_t token, const std::string& reason,
+                   const std::string& wait_for = "");
 
   // Marks `worker_id` live now (RegisterWorker); leasing, heartbeats and reports
   // do it too.

@@ -238,6 +238,38 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
 }
 
+TEST_F(ServiceTest, ARenderLeasedAfterItsFabricWasEvictedPrecomputesItAgain) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  client::JobClient client = Client();
+  const auto run_worker_until_ended = [&](const std::string& id) {
+    worker::WorkerOptions worker_options;
+    worker_options.lease_wait = std::chrono::milliseconds(500);
+    worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker_options);
+    std::thread thread([&worker] { worker.Run(); });
+    const v1::Job ended = WaitUntilEnded(client, id);
+    worker.Stop();
+    thread.join();
+    return ended;
+  };
+  const v1::Job fabric = run_worker_until_ended(client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(fabric.state(), v1::JOB_STATE_SUCCEEDED) << fabric.error();
+
+  // Submitted while the fabric is cached (no dependency), then the fabric goes.
+  const v1::SubmitJobResponse render = client.Submit(RenderRequest(TinyScene(32, 24)));
+  ASSERT_EQ(render.dependencies_size(), 0);
+  client.DeleteFabric(fabric.fabric_key());
+
+  const v1::Job done = run_worker_until_ended(render.job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.attempts(), 1u);  // the lease that found the fabric gone was given back
+  ASSERT_EQ(done.depends_on_size(), 1);
+  EXPECT_NE(done.depends_on(0), fabric.id());
+  EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 2);
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
 // A local worker whose first job's work throws `failure` (then works normally).
 ServerOptions FailingFirstJob(std::function<void()> failure) {
   ServerOptions options;

@@ -336,6 +336,22 @@ TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
             log.end());
 }
 
+TEST_F(JobQueueTest, AHandBackCanMakeTheJobWaitForAnother) {
+  const auto render = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0).id();
+  const auto waiting = queue_->HandBack(render, lease.token, "fabric left the cache", precompute);
+  EXPECT_EQ(waiting.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(waiting.attempts(), 0u);
+  EXPECT_EQ(std::vector<std::string>(waiting.depends_on().begin(), waiting.depends_on().end()),
+            std::vector<std::string>{precompute});
+  const JobLease next = MustLease("w1");
+  EXPECT_EQ(next.job.id(), precompute);  // the render waits for it
+  EXPECT_FALSE(queue_->Lease("w2").has_value());
+  queue_->Complete(precompute, next.token, {kHash});
+  EXPECT_EQ(MustLease("w2").job.id(), render);
+}
+
 TEST_F(JobQueueTest, AHandBackAfterACancelRequestEndsCancelled) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
