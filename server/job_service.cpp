@@ -72,13 +72,12 @@ grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJ
                                   grpc::ServerWriter<v1::JobEvent>* writer) {
   return Guard(*context, state_.client_token, "WatchJob", [&] {
     const std::string& id = request->job_id();
-    int64_t lines_sent = 0;
+    int64_t next_line = 0;
     uint64_t version = state_.queue.Version();
     while (true) {
       v1::JobEvent event;
       *event.mutable_job() = state_.queue.Get(id);
-      for (std::string& line : state_.queue.Log(id, lines_sent)) event.add_log_lines(std::move(line));
-      lines_sent += event.log_lines_size();
+      for (std::string& line : state_.queue.Log(id, next_line, &next_line)) event.add_log_lines(std::move(line));
       if (!writer->Write(event) || IsTerminal(event.job().state())) return;
       // Wait for the next change, looking up every second for a client that left
       // or a server that is stopping.

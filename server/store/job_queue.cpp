@@ -20,6 +20,7 @@ using v1::JobState;
 constexpr uint32_t kMaxAttemptsCap = 100;
 constexpr int kDefaultPageSize = 100;
 constexpr int kMaxPageSize = 1000;
+constexpr size_t kMaxLogLineBytes = 4096;
 
 constexpr const char* kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS jobs (
@@ -229,9 +230,11 @@ class JobQueue::Txn {
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
   if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
-      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0) {
+      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0 ||
+      options_.log_keep_bytes < static_cast<int64_t>(kMaxLogLineBytes)) {
     throw Error(ErrorCode::kInvalidArgument,
-                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
+                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100], "
+                "log_keep_bytes at least 4096");
   }
   db_->Exec(kSchema);
   // Live workers, in memory only (TEMP): a restarted server learns them again as
@@ -320,11 +323,42 @@ void JobQueue::Touch(int64_t seq) {
 }
 
 void JobQueue::WriteLog(int64_t seq, const std::string& line) {
+  const std::string text = line.size() <= kMaxLogLineBytes
+                               ? line
+                               : line.substr(0, kMaxLogLineBytes) + " … (" +
+                                     std::to_string(line.size() - kMaxLogLineBytes) + " bytes cut)";
   db_->Run(
       "INSERT INTO job_log (job_seq, line, text) "
       "VALUES (?1, (SELECT COALESCE(MAX(line) + 1, 0) FROM job_log WHERE job_seq = ?1), ?2)",
-      seq, line);
+      seq, text);
   Touch(seq);
+  auto total_query = db_->Query("SELECT COALESCE(SUM(LENGTH(CAST(text AS BLOB))), 0) FROM job_log WHERE job_seq = ?",
+                                seq);
+  total_query.Step();
+  int64_t total = total_query.Int(0);
+  const int64_t keep = options_.log_keep_bytes;
+  if (total <= 2 * keep) return;
+  // Over the cap: the head (the first lines within `keep` bytes) stays; the oldest
+  // lines after it go until the rest fits in `keep` bytes too.
+  int64_t head_bytes = 0;
+  int64_t head_end = -1;  // the last line of the head
+  std::vector<std::pair<int64_t, int64_t>> tail;  // (line, bytes), oldest first
+  for (auto rows = db_->Query("SELECT line, LENGTH(CAST(text AS BLOB)) FROM job_log WHERE job_seq = ? ORDER BY line",
+                              seq);
+       rows.Step();) {
+    if (tail.empty() && rows.Int(0) == head_end + 1 && head_bytes + rows.Int(1) <= keep) {
+      head_bytes += rows.Int(1);
+      head_end = rows.Int(0);
+    } else {
+      tail.emplace_back(rows.Int(0), rows.Int(1));
+    }
+  }
+  int64_t drop_through = head_end;
+  for (size_t i = 0; i + 1 < tail.size() && total > 2 * keep; ++i) {
+    total -= tail[i].second;
+    drop_through = tail[i].first;
+  }
+  db_->Run("DELETE FROM job_log WHERE job_seq = ? AND line > ? AND line <= ?", seq, head_end, drop_through);
 }
 
 // --- Transitions (mu_ held, inside a transaction) -----------------------------------
@@ -752,15 +786,23 @@ void JobQueue::AppendLog(const std::string& id, const std::string& line) {
   txn.Commit();
 }
 
-std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line) const {
+std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line, int64_t* next_line) const {
   if (from_line < 0) throw Error(ErrorCode::kInvalidArgument, "from_line " + std::to_string(from_line) + " is negative");
   std::lock_guard lock(mu_);
   std::vector<std::string> lines;
-  for (auto query = db_->Query("SELECT text FROM job_log WHERE job_seq = ? AND line >= ? ORDER BY line",
+  int64_t expected = from_line;
+  for (auto query = db_->Query("SELECT line, text FROM job_log WHERE job_seq = ? AND line >= ? ORDER BY line",
                                RequireRow(id).seq, from_line);
        query.Step();) {
-    lines.push_back(query.Text(0));
+    const int64_t line = query.Int(0);
+    if (line > expected) {
+      lines.push_back("… " + std::to_string(line - expected) + " log line(s) truncated (a job's log keeps its first and last " +
+                      std::to_string(options_.log_keep_bytes >> 10) + " KiB) …");
+    }
+    lines.push_back(query.Text(1));
+    expected = line + 1;
   }
+  if (next_line) *next_line = expected;
   return lines;
 }
 

@@ -62,6 +62,11 @@ struct JobQueueOptions {
   int64_t stuck_after_ms = 10 * 60'000;
   // Used when a submitted job leaves max_attempts at 0.
   uint32_t default_max_attempts = 3;
+  // A job's log keeps its first and its last this many bytes (at least 4096); the
+  // lines between are dropped, and Log shows a "… truncated …" line in their
+  // place. A chatty or looping worker cannot fill the disk. One line is cut at
+  // 4096 bytes.
+  int64_t log_keep_bytes = 64 << 10;
 };
 
 struct JobLease {
@@ -207,9 +212,12 @@ class JobQueue {
 
   QueueDepth Depth() const;
 
-  // A job's log: lines appended by its workers and by the queue, numbered from 0.
+  // A job's log: lines appended by its workers and by the queue, numbered from 0,
+  // capped as log_keep_bytes says. Log returns the lines numbered from `from_line`
+  // on, with a "… N lines truncated …" line for each run of dropped ones, and sets
+  // `*next_line` (if given) to the number to ask from next time.
   void AppendLog(const std::string& id, const std::string& line);
-  std::vector<std::string> Log(const std::string& id, int64_t from_line) const;
+  std::vector<std::string> Log(const std::string& id, int64_t from_line, int64_t* next_line = nullptr) const;
 
   // --- Watching -----------------------------------------------------------------
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdio>
 #include <cmath>
 #include <latch>
 #include <map>
@@ -612,6 +613,44 @@ TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
   EXPECT_EQ(queue_->Log(id, 3), (std::vector<std::string>{"rendering", "[queue] SUCCEEDED"}));
   EXPECT_TRUE(queue_->Log(id, 5).empty());
   EXPECT_LOOM_ERROR(queue_->Log(id, -1), ErrorCode::kInvalidArgument, "negative");
+}
+
+TEST_F(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
+  Reopen(JobQueueOptions{.log_keep_bytes = 4096});
+  const auto id = queue_->Submit(Render()).id();
+  const auto numbered = [](int n) {
+    char text[16];
+    std::snprintf(text, sizeof text, "line %03d ", n);
+    return std::string(text) + std::string(51, 'x');  // 60 bytes
+  };
+  for (int n = 0; n < 300; ++n) queue_->AppendLog(id, numbered(n));  // 18000 bytes
+
+  int64_t next = 0;
+  const auto log = queue_->Log(id, 0, &next);
+  size_t bytes = 0;
+  for (const auto& line : log) bytes += line.size();
+  EXPECT_LE(bytes, 2 * 4096 + 200u);
+  EXPECT_GE(bytes, 2 * 4096 - 2 * 60u);
+  EXPECT_EQ(log.front(), "[queue] submitted");
+  EXPECT_EQ(log[1], numbered(0));
+  EXPECT_EQ(log.back(), numbered(299));
+  const auto marker = std::find_if(log.begin(), log.end(), [](const std::string& l) { return l.find("truncated") != std::string::npos; });
+  ASSERT_NE(marker, log.end());
+  EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const std::string& l) { return l.find("truncated") != std::string::npos; }), 1);
+  EXPECT_EQ(*(marker - 1), numbered(static_cast<int>(marker - log.begin()) - 2));  // the head is whole up to the cut
+  EXPECT_EQ(next, 301);  // "[queue] submitted" and 300 lines
+
+  // A reader resuming inside the dropped lines is told so, then gets the tail.
+  const auto resumed = queue_->Log(id, 100);
+  EXPECT_NE(resumed.front().find("truncated"), std::string::npos) << resumed.front();
+  EXPECT_EQ(resumed.back(), numbered(299));
+
+  // One oversized line is cut.
+  queue_->AppendLog(id, std::string(10'000, 'y'));
+  const auto last = queue_->Log(id, next).back();
+  EXPECT_EQ(last.substr(0, 4096), std::string(4096, 'y'));
+  EXPECT_NE(last.find("5904 bytes cut"), std::string::npos);
+  EXPECT_LOOM_ERROR(Reopen(JobQueueOptions{.log_keep_bytes = 100}), ErrorCode::kInvalidArgument, "log_keep_bytes");
 }
 
 TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
