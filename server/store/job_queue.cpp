@@ -213,8 +213,9 @@ class JobQueue::Txn {
   void Commit() {
     txn_.Commit();
     queue_.changed_.notify_all();
-    const auto ended = std::exchange(queue_.ended_, {});
+    auto ended = std::exchange(queue_.ended_, {});
     const auto listener = queue_.on_ended_;
+    if (!listener) queue_.unheard_.insert(queue_.unheard_.end(), ended.begin(), ended.end());
     lock_.unlock();
     if (listener) {
       for (const auto& [id, kind] : ended) listener(id, kind);
@@ -829,8 +830,13 @@ std::optional<uint64_t> JobQueue::WaitForChange(const std::string& id, uint64_t 
 }
 
 void JobQueue::OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener) {
-  std::lock_guard lock(mu_);
-  on_ended_ = std::move(listener);
+  std::vector<std::pair<std::string, v1::JobKind>> unheard;
+  {
+    std::lock_guard lock(mu_);
+    on_ended_ = listener;
+    unheard = std::exchange(unheard_, {});
+  }
+  for (const auto& [id, kind] : unheard) listener(id, kind);
 }
 
 void JobQueue::Shutdown() {

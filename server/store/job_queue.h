@@ -238,7 +238,9 @@ class JobQueue {
   // CANCELLED, however it gets there (a worker's report, a cancel, an expired
   // lease's last attempt, a failed dependency), after the change is committed and
   // without the queue's lock held: what the server holds for a job (its meshes'
-  // pins) is released there. Set it once, before the queue is used by others.
+  // pins) is released there. Set it once, before the queue is used by others;
+  // jobs ended before (a restart's requeue ending a last attempt, when the queue
+  // was opened) are told to it at once.
   void OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener);
 
   // Wakes every waiter (LeaseWait, WaitForChange) and makes later waits return at
@@ -277,6 +279,8 @@ class JobQueue {
   std::function<void(const std::string&, v1::JobKind)> on_ended_;
   // Jobs ended by the open Txn, for on_ended_ once it commits.
   std::vector<std::pair<std::string, v1::JobKind>> ended_;
+  // Jobs ended while no listener was set, for the listener once it is.
+  std::vector<std::pair<std::string, v1::JobKind>> unheard_;
   uint64_t version_ = 0;
   bool shutdown_ = false;
 };
