@@ -36,8 +36,9 @@ struct WorkerOptions {
   // Shown in logs and registered with the server, e.g. "local-0".
   std::string label = "worker";
   // Called on the worker's thread before each job's work; what it throws fails the
-  // attempt as the work's own error would (a loom::Error kInvalidArgument as a
-  // permanent failure, anything else as a retryable one). Tests inject failures here.
+  // attempt as the work's own error would (a loom::Error kInvalidArgument, bad
+  // input, as a permanent failure; anything else, a damaged transfer included, as a
+  // retryable one). Tests inject failures here.
   std::function<void(const v1::Job&)> before_job;
 };
 
