@@ -2,10 +2,12 @@
 // the queue of an in-process loom-server on loopback (real gRPC over 127.0.0.1, a
 // temporary data directory, --local-workers 1 or 2), the fabric cached beforehand.
 //
-// Each of `2 × workers` client threads submits a render through the client API,
-// follows it (WatchJob) to SUCCEEDED, downloads the frame and submits the next: a
-// closed loop that keeps every worker busy with one job waiting behind it, so the
-// latency is what a user of a busy but not flooded farm sees. Counters:
+// Each of `clients_per_worker × workers` client threads submits a render through
+// the client API, follows it (WatchJob) to SUCCEEDED, downloads the frame and
+// submits the next: a closed loop. With one client per worker no job waits in
+// the queue, so latency minus render time is the service's own overhead (RPCs,
+// lease, upload, PNG transfer); with two, every worker is kept busy with one job
+// waiting behind it, the latency a user of a busy but not flooded farm sees. Counters:
 //   jobs_per_s     finished jobs per second of wall time
 //   p50_ms, p99_ms submit → SUCCEEDED and frame downloaded, per job
 //   render_ms      the worker's own render time (Job.timings.run_ms), mean
@@ -99,9 +101,10 @@ std::vector<JobSample> RenderBatch(const std::string& address, const v1::SubmitJ
 void BM_RenderJobsThroughTheQueue(benchmark::State& state) {
   spdlog::set_level(spdlog::level::warn);  // a line per job would drown the figures
   const int workers = static_cast<int>(state.range(0));
-  const int clients = 2 * workers;
+  const int clients = static_cast<int>(state.range(1)) * workers;
   const auto data_dir = std::filesystem::temp_directory_path() /
-                        ("loom-service-benchmark-" + std::to_string(::getpid()) + "-" + std::to_string(workers));
+                        ("loom-service-benchmark-" + std::to_string(::getpid()) + "-" + std::to_string(workers) + "-" +
+                         std::to_string(clients));
   std::filesystem::remove_all(data_dir);
   {
     server::ServerOptions options;
@@ -154,9 +157,8 @@ void BM_RenderJobsThroughTheQueue(benchmark::State& state) {
 }
 
 BENCHMARK(BM_RenderJobsThroughTheQueue)
-    ->ArgName("workers")
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgNames({"workers", "clients_per_worker"})
+    ->ArgsProduct({{1, 2}, {1, 2}})
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
