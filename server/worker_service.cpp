@@ -66,6 +66,12 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     while (!context->IsCancelled() && !state_.draining) {
       const auto slice = std::min(deadline, std::chrono::steady_clock::now() + 1s);
       std::optional<JobLease> lease = state_.queue.LeaseWait(request->worker_id(), slice);
+      if (lease && context->IsCancelled()) {
+        // The worker hung up (stopped) while this call waited: it would never hear
+        // of the lease, which would only expire and cost the job an attempt.
+        state_.queue.HandBack(lease->job.id(), lease->token, "the worker hung up before the lease reached it");
+        return;
+      }
       if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) {
         response->clear_fabrics();
         continue;

@@ -660,8 +660,7 @@ v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::str
                            const std::string& wait_for) {
   Txn txn(*this);
   const Row row = RequireLease(id, token);
-  const int64_t now = clock_.NowMs();
-  NoteWorkerLocked(row.worker_id, now);
+  const int64_t now = clock_.NowMs();  // (the worker is not noted live: it is going away)
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request", now);
   } else {

@@ -73,9 +73,9 @@ TEST_F(ServiceTest, TwoHundredJobsTwoWorkersOneKilledEveryJobSucceedsOnce) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
 
   // Scratch directories: the SIGTERMed worker removed its own; the SIGKILLed one
-  // could not, and the next worker to start removes it.
+  // could not, and the next worker to start removes it (here, or any other process
+  // making a JobRunner meanwhile: tests run in parallel).
   EXPECT_EQ(ScratchDirectoriesOf(survivor), 0);
-  EXPECT_EQ(ScratchDirectoriesOf(doomed), 1);
   worker::JobRunner next_worker(gl::DefaultContextOptions());
   EXPECT_EQ(ScratchDirectoriesOf(doomed), 0);
 }

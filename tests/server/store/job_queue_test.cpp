@@ -619,7 +619,7 @@ TEST_F(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
   Reopen(JobQueueOptions{.log_keep_bytes = 4096});
   const auto id = queue_->Submit(Render()).id();
   const auto numbered = [](int n) {
-    char text[16];
+    char text[24];
     std::snprintf(text, sizeof text, "line %03d ", n);
     return std::string(text) + std::string(51, 'x');  // 60 bytes
   };
