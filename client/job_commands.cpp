@@ -75,6 +75,10 @@ ClientCommand AddPrecompute(CLI::App& fabric, ClientFlags& flags) {
   };
   auto options = std::make_shared<Options>();
   auto* command = fabric.add_subcommand("precompute", "Fit a fabric's BRDF array on the server (cached by its key)");
+  command->footer(
+      "A fabric already in the server's cache is not fitted again: the submission is answered by a job that is\n"
+      "SUCCEEDED at once and names the cached fabric (its log says so). To fit it again, remove it first\n"
+      "(loom cache rm KEY).");
   command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
   command->add_option("--settings", options->settings, "Precompute settings file (JSON); default: the defaults");
   command->add_option("--out,-o", options->out, "Also download the fitted asset into this directory");

@@ -16,10 +16,6 @@ using namespace std::chrono_literals;
 
 constexpr size_t kMinKeyPrefix = 8;
 
-bool IsTerminal(v1::JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
-
 }  // namespace
 
 v1::CachedFabric ToCachedFabric(const FabricEntry& entry) {
@@ -76,13 +72,12 @@ grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJ
                                   grpc::ServerWriter<v1::JobEvent>* writer) {
   return Guard(*context, state_.client_token, "WatchJob", [&] {
     const std::string& id = request->job_id();
-    int64_t lines_sent = 0;
+    int64_t next_line = 0;
     uint64_t version = state_.queue.Version();
     while (true) {
       v1::JobEvent event;
       *event.mutable_job() = state_.queue.Get(id);
-      for (std::string& line : state_.queue.Log(id, lines_sent)) event.add_log_lines(std::move(line));
-      lines_sent += event.log_lines_size();
+      for (std::string& line : state_.queue.Log(id, next_line, &next_line)) event.add_log_lines(std::move(line));
       if (!writer->Write(event) || IsTerminal(event.job().state())) return;
       // Wait for the next change, looking up every second for a client that left
       // or a server that is stopping.
@@ -101,7 +96,6 @@ grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::Cance
                                    v1::Job* response) {
   return Guard(*context, state_.client_token, "CancelJob", [&] {
     *response = state_.queue.Cancel(request->job_id());
-    ReleaseIfEnded(state_, *response);
     spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
   });
 }

@@ -77,6 +77,13 @@ v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
 
 std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
 
+v1::Job SubmitFabricPrecompute(const SceneFabric& fabric, int32_t priority, JobQueue& queue) {
+  v1::PrecomputeJob precompute;
+  *precompute.mutable_fabric() = fabric.fabric;
+  *precompute.mutable_settings() = fabric.settings;
+  return queue.SubmitPrecomputeOnce(precompute, fabric.key, priority);
+}
+
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
                                 FabricCache& cache) {
   CheckNoUnknownFields(request, "request");
@@ -87,13 +94,24 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   v1::SubmitJobResponse response;
   if (request.payload_case() == v1::SubmitJobRequest::kPrecompute) {
     v1::Job job = CheckedPrecompute(request);
+    job.set_priority(request.priority());
+    job.set_client_request_id(request.client_request_id());
+    // A fabric already cached is not fitted again: the answer is a job that
+    // SUCCEEDED at once with the cached files, so that scripts and the CLI see the
+    // usual submit-then-done, and the history shows the request.
+    if (const std::optional<FabricEntry> cached = cache.Get(job.fabric_key())) {
+      std::vector<std::string> files;
+      for (const FabricFile& file : cached->files) files.push_back(file.hash);
+      *response.mutable_job() = queue.SubmitDone(
+          job, files, "fabric " + job.fabric_key() + " is already cached: nothing to compute (loom cache rm to refit)");
+      spdlog::info("job {}: precompute of fabric {} answered from the cache", response.job().id(), job.fabric_key());
+      return response;
+    }
     // An explicit precompute joins one already running for the same fabric, unless
     // the client names its own request id (then the id decides what is a retry).
     if (request.client_request_id().empty()) {
       *response.mutable_job() = queue.SubmitPrecomputeOnce(job.precompute(), job.fabric_key(), request.priority());
     } else {
-      job.set_priority(request.priority());
-      job.set_client_request_id(request.client_request_id());
       *response.mutable_job() = queue.Submit(job);
     }
     spdlog::info("job {}: precompute of fabric {}", response.job().id(), response.job().fabric_key());
@@ -119,16 +137,18 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   if (full.render().method() == v1::RENDER_METHOD_SVBRDF) {
     for (const SceneFabric& fabric : SceneFabrics(full)) {
       if (cache.Get(fabric.key)) continue;
-      v1::PrecomputeJob precompute;
-      *precompute.mutable_fabric() = fabric.fabric;
-      *precompute.mutable_settings() = fabric.settings;
-      v1::Job dependency = queue.SubmitPrecomputeOnce(precompute, fabric.key, request.priority());
+      v1::Job dependency = SubmitFabricPrecompute(fabric, request.priority(), queue);
       job.add_depends_on(dependency.id());
       *response.add_dependencies() = std::move(dependency);
     }
   }
   *response.mutable_job() = queue.Submit(job);
-  for (const std::string& hash : meshes) artifacts.Pin(hash, JobPinOwner(response.job().id()));
+  // Held until the job ends (ServiceState releases them then). A job that ended
+  // before they were taken (at once, on a failed dependency, or raced to the end)
+  // would never release them: release them here.
+  const std::string owner = JobPinOwner(response.job().id());
+  for (const std::string& hash : meshes) artifacts.Pin(hash, owner);
+  if (IsTerminal(queue.Get(response.job().id()).state())) artifacts.UnpinAll(owner);
   spdlog::info("job {}: render '{}' ({} fabric precompute(s) to wait for)", response.job().id(), scene.name(),
                response.dependencies_size());
   return response;

@@ -6,6 +6,7 @@
 // lacks gets its precompute (JobQueue::SubmitPrecomputeOnce: joined, never doubled)
 // and the render depends on them.
 
+#include "core/render/scene_render.h"
 #include "loom/v1/service.pb.h"
 #include "server/store/artifact_store.h"
 #include "server/store/fabric_cache.h"
@@ -20,5 +21,9 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
 
 // The pin owner of a render job's meshes, held until the job ends.
 std::string JobPinOwner(const std::string& job_id);
+
+// The precompute job that will put a scene's fabric into the cache: created, or
+// joined if one is active (JobQueue::SubmitPrecomputeOnce).
+v1::Job SubmitFabricPrecompute(const SceneFabric& fabric, int32_t priority, JobQueue& queue);
 
 }  // namespace loom::server

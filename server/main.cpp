@@ -41,7 +41,9 @@ int Main(int argc, char** argv) {
   app.add_option("--cache-bytes", options.cache_bytes,
                  "Artifact and fabric cache budget in bytes, least recently used evicted first (0: no limit)")
       ->capture_default_str();
-  app.add_option("--max-attempts", options.max_attempts, "Attempts per job before it fails")
+  app.add_option("--max-attempts", options.max_attempts,
+                 "Attempts per job before it fails (a worker that failed a job gets it again only when no other "
+                 "live worker can take it; bad input fails at once; a SIGTERM hand-back uses none)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   app.add_option("--lease-seconds", options.lease_seconds,

@@ -29,10 +29,13 @@ size_t WorkerRegistry::size() const {
   return workers_.size();
 }
 
-void ReleaseIfEnded(ServiceState& state, const v1::Job& job) {
-  const bool ended = job.state() == v1::JOB_STATE_SUCCEEDED || job.state() == v1::JOB_STATE_FAILED ||
-                     job.state() == v1::JOB_STATE_CANCELLED;
-  if (ended && job.kind() == v1::JOB_KIND_RENDER) state.artifacts.UnpinAll(JobPinOwner(job.id()));
+ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
+                           std::string client_token, std::string worker_token, bool tls)
+    : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
+      worker_token(std::move(worker_token)), tls(tls) {
+  queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
+    if (kind == v1::JOB_KIND_RENDER) artifacts.UnpinAll(JobPinOwner(id));
+  });
 }
 
 }  // namespace loom::server

@@ -28,10 +28,10 @@ class WorkerRegistry {
 };
 
 struct ServiceState {
+  // Listens to the queue's job endings: a render job's mesh pins are released
+  // however the job ends.
   ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
-               std::string client_token, std::string worker_token, bool tls)
-      : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
-        worker_token(std::move(worker_token)), tls(tls) {}
+               std::string client_token, std::string worker_token, bool tls);
 
   JobQueue& queue;
   ArtifactStore& artifacts;
@@ -44,8 +44,5 @@ struct ServiceState {
   WorkerRegistry workers;
   std::atomic<bool> draining{false};
 };
-
-// Ends a render job's mesh pins once it has ended (JobQueue returns the job as it ended).
-void ReleaseIfEnded(ServiceState& state, const v1::Job& job);
 
 }  // namespace loom::server

@@ -9,6 +9,7 @@
 #include "server/artifact_upload.h"
 #include "server/call_guard.h"
 #include "server/job_service.h"
+#include "server/job_submission.h"
 
 namespace loom::server {
 namespace {
@@ -25,6 +26,7 @@ grpc::Status WorkerService::RegisterWorker(grpc::ServerContext* context, const v
                                            v1::RegisterWorkerResponse* response) {
   return Guard(*context, state_.worker_token, "RegisterWorker", [&] {
     response->set_worker_id(state_.workers.Register(request->capabilities()));
+    state_.queue.WorkerSeen(response->worker_id());
     // Two heartbeats may be lost before the lease expires.
     response->set_heartbeat_interval_ms(
         static_cast<uint32_t>(std::max<int64_t>(state_.queue.options().lease_duration_ms / 3, 50)));
@@ -37,9 +39,13 @@ bool WorkerService::ResolveFabrics(const JobLease& lease, v1::LeaseJobResponse& 
   for (const SceneFabric& fabric : SceneFabrics(scene)) {
     const std::optional<FabricEntry> entry = state_.cache.Get(fabric.key);
     if (!entry) {
-      // Evicted (or found corrupt) after its precompute succeeded.
-      state_.queue.Fail(lease.job.id(), lease.token,
-                        "fabric " + fabric.key + " left the cache before the render ran; submit the render again");
+      // Evicted (or found corrupt) after its precompute succeeded: precompute it
+      // again (joined as usual) and let the render wait for it, its attempt unused.
+      const v1::Job precompute = SubmitFabricPrecompute(fabric, lease.job.priority(), state_.queue);
+      state_.queue.HandBack(lease.job.id(), lease.token,
+                            "fabric " + fabric.key + " left the cache before the render ran", precompute.id());
+      spdlog::info("job {}: fabric {} left the cache; waits for precompute {}", lease.job.id(), fabric.key,
+                   precompute.id());
       return false;
     }
     v1::FabricAsset& asset = *response.add_fabrics();
@@ -60,6 +66,12 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     while (!context->IsCancelled() && !state_.draining) {
       const auto slice = std::min(deadline, std::chrono::steady_clock::now() + 1s);
       std::optional<JobLease> lease = state_.queue.LeaseWait(request->worker_id(), slice);
+      if (lease && context->IsCancelled()) {
+        // The worker hung up (stopped) while this call waited: it would never hear
+        // of the lease, which would only expire and cost the job an attempt.
+        state_.queue.HandBack(lease->job.id(), lease->token, "the worker hung up before the lease reached it");
+        return;
+      }
       if (lease && lease->job.kind() == v1::JOB_KIND_RENDER && !ResolveFabrics(*lease, *response)) {
         response->clear_fabrics();
         continue;
@@ -138,8 +150,7 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (manifest_json.empty()) throw Error(ErrorCode::kInvalidArgument, "artifacts: no manifest.json");
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }
-    const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes);
-    ReleaseIfEnded(state_, ended);
+    const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes, request->run_ms());
     spdlog::info("job {}: {} by {}", id, v1::JobState_Name(ended.state()), request->worker_id());
     if (job.kind() == v1::JOB_KIND_PRECOMPUTE) state_.cache.Evict();
   });
@@ -150,8 +161,12 @@ grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::Fail
   return Guard(*context, state_.worker_token, "FailJob", [&] {
     state_.queue.CheckLease(request->job_id(), request->fencing_token());
     AppendLog(state_.queue, request->job_id(), request->log_lines());
-    const v1::Job ended = state_.queue.Fail(request->job_id(), request->fencing_token(), request->error());
-    ReleaseIfEnded(state_, ended);
+    const Failure failure =
+        request->kind() == v1::FailJobRequest::KIND_PERMANENT ? Failure::kPermanent : Failure::kRetryable;
+    const v1::Job ended =
+        request->kind() == v1::FailJobRequest::KIND_HANDED_BACK
+            ? state_.queue.HandBack(request->job_id(), request->fencing_token(), request->error())
+            : state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
     spdlog::info("job {}: attempt failed on {} ({}): {}", ended.id(), request->worker_id(),
                  v1::JobState_Name(ended.state()), request->error());
   });

@@ -1,8 +1,12 @@
 #include "worker/job_runner.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <string_view>
 
 #include "core/fit/fabric_asset.h"
 #include "core/image/image.h"
@@ -15,15 +19,53 @@
 namespace loom::worker {
 namespace {
 
+constexpr std::string_view kScratchPrefix = "loom-worker-";
+
+// Removes the scratch directories under `parent` whose process no longer exists
+// (SIGKILLed, crashed). A live process's, or one that is not ours to signal, stays.
+void SweepStaleScratchDirectories(const std::filesystem::path& parent) {
+  std::error_code ignored;
+  for (const auto& entry : std::filesystem::directory_iterator(parent, ignored)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(kScratchPrefix)) continue;
+    const char* digits = name.data() + kScratchPrefix.size();
+    const char* end = name.data() + name.size();
+    pid_t pid = 0;
+    const auto [after, error] = std::from_chars(digits, end, pid);
+    if (error != std::errc() || after == end || *after != '-' || pid <= 0) continue;
+    if (::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    std::filesystem::remove_all(entry.path(), ignored);
+  }
+}
+
 // Distinct per runner in one process (the server's local workers share a pid).
 std::filesystem::path MakeScratchDirectory() {
   static std::atomic<int> next{0};
-  const auto path = std::filesystem::temp_directory_path() /
-                    ("loom-worker-" + std::to_string(::getpid()) + "-" + std::to_string(next++));
+  const auto parent = std::filesystem::temp_directory_path();
+  SweepStaleScratchDirectories(parent);
+  const auto path = parent / (std::string(kScratchPrefix) + std::to_string(::getpid()) + "-" + std::to_string(next++));
   std::filesystem::remove_all(path);
   std::filesystem::create_directories(path);
   return path;
 }
+
+// A job step's directory under the scratch directory, removed however the step ends.
+class StepDirectory {
+ public:
+  explicit StepDirectory(std::filesystem::path path) : path_(std::move(path)) {
+    std::filesystem::create_directories(path_);
+  }
+  ~StepDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  StepDirectory(const StepDirectory&) = delete;
+  StepDirectory& operator=(const StepDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 std::vector<NamedFile> ReadDirectory(const std::filesystem::path& directory) {
   std::vector<NamedFile> files;
@@ -52,25 +94,20 @@ std::filesystem::path JobRunner::NewScratchPath(const std::string& stem) {
 std::vector<NamedFile> JobRunner::Precompute(const v1::PrecomputeJob& job, const std::string& fabric_key,
                                              const PrecomputeProgress& progress) {
   const FittedFabric fit = PrecomputeFabric(job.fabric(), job.settings(), progress);
-  const auto directory = NewScratchPath("asset");
-  WriteFabricAsset(fit, job.settings(), fabric_key, directory);
-  std::vector<NamedFile> files = ReadDirectory(directory);
-  std::filesystem::remove_all(directory);
-  return files;
+  const StepDirectory directory(NewScratchPath("asset"));
+  WriteFabricAsset(fit, job.settings(), fabric_key, directory.path());
+  return ReadDirectory(directory.path());
 }
 
 FittedFabric JobRunner::ReadAsset(const std::vector<NamedFile>& files) {
-  const auto directory = NewScratchPath("fabric");
-  std::filesystem::create_directories(directory);
+  const StepDirectory directory(NewScratchPath("fabric"));
   for (const NamedFile& file : files) {
     if (file.name.empty() || file.name.find('/') != std::string::npos) {
       throw Error(ErrorCode::kInvalidArgument, "fabric asset file name '" + file.name + "' is not a plain name");
     }
-    WriteFileAtomic(directory / file.name, file.bytes);
+    WriteFileAtomic(directory.path() / file.name, file.bytes);
   }
-  FittedFabric fit = ReadFabricAsset(directory);
-  std::filesystem::remove_all(directory);
-  return fit;
+  return ReadFabricAsset(directory.path());
 }
 
 NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits) {
@@ -82,12 +119,9 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
                           : RenderScene(*renderer_, scene, geometry, fits).image;
   const bool exr = scene.render().format() == v1::IMAGE_FORMAT_EXR;
   const std::string name = exr ? "frame.exr" : "frame.png";
-  const auto path = NewScratchPath("frame") / name;
-  std::filesystem::create_directories(path.parent_path());
-  WriteImage(image, path);
-  NamedFile file{name, ReadFile(path)};
-  std::filesystem::remove_all(path.parent_path());
-  return file;
+  const StepDirectory directory(NewScratchPath("frame"));
+  WriteImage(image, directory.path() / name);
+  return {name, ReadFile(directory.path() / name)};
 }
 
 }  // namespace loom::worker

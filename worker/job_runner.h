@@ -3,7 +3,10 @@
 // precompute becomes the fabric asset's files, a render becomes the frame file.
 // Owns the worker's one EGL context (made once, reused for every job) and its
 // svbrdf renderer (shader programs compiled once), and a scratch directory for the
-// asset and image files core reads and writes.
+// asset and image files core reads and writes: TMPDIR/loom-worker-<pid>-<n>, a
+// job's files removed when its step ends (thrown or not), the directory when the
+// runner is destroyed (a worker's every way out but SIGKILL or a crash). Making a
+// runner first removes the scratch directories of worker processes that are gone.
 //
 // Not thread-safe: one job at a time, on the thread that made the runner (the
 // context is current there).
@@ -37,6 +40,7 @@ class JobRunner {
   JobRunner& operator=(const JobRunner&) = delete;
 
   const gl::DeviceInfo& device() const { return context_->info(); }
+  const std::filesystem::path& scratch_directory() const { return scratch_; }
 
   // The fabric asset of `job` (core/fit/fabric_asset.h) as files, keyed
   // `fabric_key`. `progress` is core's callback: throwing from it cancels.

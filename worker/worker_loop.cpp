@@ -44,6 +44,18 @@ v1::WorkerCapabilities Capabilities(const gl::DeviceInfo& device, const std::str
   return capabilities;
 }
 
+// An artifact a job reads. A transfer that arrives damaged (kInvalidArgument from
+// the checksum check) is worth a retry, unlike bad input: it becomes kInternal, a
+// retryable failure.
+std::string DownloadForJob(v1::WorkerService::Stub& stub, const std::string& sha256) {
+  try {
+    return rpc::DownloadArtifact(stub, sha256);
+  } catch (const Error& error) {
+    if (error.code() != ErrorCode::kInvalidArgument) throw;
+    throw Error(ErrorCode::kInternal, std::string("download of artifact ") + sha256 + ": " + error.what());
+  }
+}
+
 // The part of a progress stage before its counter ("acquisition: view 3/64" ->
 // "acquisition"): a new one is worth a log line, a new count is not.
 std::string_view StageName(std::string_view stage) { return stage.substr(0, stage.find(':')); }
@@ -149,7 +161,7 @@ class WorkerLoop::FitCache {
     }
     std::vector<NamedFile> files;
     for (const v1::ArtifactRef& file : asset.files()) {
-      files.push_back({file.name(), rpc::DownloadArtifact(stub, file.sha256())});
+      files.push_back({file.name(), DownloadForJob(stub, file.sha256())});
     }
     fits_.emplace(fits_.begin(), asset.fabric_key(), runner.ReadAsset(files));
     if (fits_.size() > kKeptFits) fits_.pop_back();
@@ -240,11 +252,20 @@ std::optional<v1::LeaseJobResponse> WorkerLoop::LeaseJob() {
 }
 
 std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased,
-                                           Lease& lease) {
+                                           Lease& lease, double& run_ms) {
   const v1::Job& job = leased.job();
+  if (options_.before_job) options_.before_job(job);
+  const auto timed = [&run_ms](auto&& work) {
+    const auto start = std::chrono::steady_clock::now();
+    auto result = work();
+    run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
   if (job.has_precompute()) {
-    return runner.Precompute(job.precompute(), job.fabric_key(),
-                             [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    return timed([&] {
+      return runner.Precompute(job.precompute(), job.fabric_key(),
+                               [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    });
   }
   FittedFabrics fitted;
   for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
@@ -252,9 +273,9 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
     if (mesh.source_case() != v1::MeshRef::kArtifact) {
       throw Error(ErrorCode::kInvalidArgument, "a worker reads uploaded mesh artifacts only");
     }
-    return rpc::DownloadArtifact(*stub_, mesh.artifact());
+    return DownloadForJob(*stub_, mesh.artifact());
   };
-  return {runner.Render(job.render(), meshes, fitted)};
+  return {timed([&] { return runner.Render(job.render(), meshes, fitted); })};
 }
 
 void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased) {
@@ -277,8 +298,15 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
 
   lease.Log(std::string(kind) + " on " + options_.label + " (" + runner.device().gl_renderer + ")");
   std::string failure;
+  // Bad input (the spec does not validate, a mesh does not parse: kInvalidArgument
+  // from the work itself, not from its uploads) fails the same way on every worker:
+  // no retry.
+  v1::FailJobRequest::Kind fail_kind = v1::FailJobRequest::KIND_RETRYABLE;
+  bool work_done = false;
   try {
-    const std::vector<NamedFile> files = Execute(runner, fits, leased, lease);
+    double run_ms = 0;
+    const std::vector<NamedFile> files = Execute(runner, fits, leased, lease, run_ms);
+    work_done = true;
     // A render runs to the end even when stopping; a cancel or lost lease drops it.
     const Interruption why = lease.interruption();
     if (why == Interruption::kCancelled || why == Interruption::kLeaseLost) throw JobInterrupted{};
@@ -293,6 +321,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
     complete.set_worker_id(worker_id_);
     complete.set_job_id(job.id());
     complete.set_fencing_token(lease.token());
+    complete.set_run_ms(run_ms);
     lease.Log(std::string(kind) + " done");
     for (std::string& line : lease.TakeLog()) complete.add_log_lines(std::move(line));
     grpc::ClientContext context;
@@ -308,12 +337,16 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
         spdlog::warn("{}: job {}: the lease was lost; dropping it", options_.label, job.id());
         return;
       case Interruption::kCancelled: failure = "cancelled on request"; break;
-      default: failure = "handed back: worker " + options_.label + " is stopping"; break;
+      default:
+        failure = "handed back: worker " + options_.label + " is stopping";
+        fail_kind = v1::FailJobRequest::KIND_HANDED_BACK;
+        break;
     }
   } catch (const Error& error) {
     if (error.code() == ErrorCode::kUnavailable) throw;  // the server is gone: the lease will expire there
     if (error.code() == ErrorCode::kFailedPrecondition && lease.interruption() == Interruption::kLeaseLost) return;
     failure = error.what();
+    if (!work_done && error.code() == ErrorCode::kInvalidArgument) fail_kind = v1::FailJobRequest::KIND_PERMANENT;
   } catch (const std::exception& error) {
     failure = std::string("internal error: ") + error.what();
   }
@@ -324,6 +357,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   fail.set_job_id(job.id());
   fail.set_fencing_token(lease.token());
   fail.set_error(failure);
+  fail.set_kind(fail_kind);
   for (std::string& line : lease.TakeLog()) fail.add_log_lines(std::move(line));
   grpc::ClientContext context;
   context.set_deadline(rpc::DeadlineIn(30s));

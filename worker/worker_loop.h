@@ -9,13 +9,14 @@
 // When the server cannot be reached the loop retries with exponential backoff
 // (100 ms doubling to 5 s) and registers again. Stop() ends it: no new lease; a
 // precompute in progress stops at its next progress report and is handed back
-// (FailJob, so the queue requeues it for another worker); a render finishes.
+// (FailJob KIND_HANDED_BACK: requeued without using up an attempt); a render finishes.
 
 #include <grpcpp/channel.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -34,6 +35,11 @@ struct WorkerOptions {
   std::chrono::milliseconds lease_wait{10'000};
   // Shown in logs and registered with the server, e.g. "local-0".
   std::string label = "worker";
+  // Called on the worker's thread before each job's work; what it throws fails the
+  // attempt as the work's own error would (a loom::Error kInvalidArgument, bad
+  // input, as a permanent failure; anything else, a damaged transfer included, as a
+  // retryable one). Tests inject failures here.
+  std::function<void(const v1::Job&)> before_job;
 };
 
 class WorkerLoop {
@@ -62,8 +68,9 @@ class WorkerLoop {
   // Runs one leased job to CompleteJob or FailJob. Throws Error(kUnavailable) only
   // when the server cannot be reached (the lease then expires there).
   void RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased);
-  // The job's result files.
-  std::vector<NamedFile> Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased, Lease& lease);
+  // The job's result files, and the time spent in the work itself (in `run_ms`).
+  std::vector<NamedFile> Execute(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased, Lease& lease,
+                                 double& run_ms);
   // Waits (interruptibly by Stop) before the next attempt to reach the server.
   void Backoff(std::chrono::milliseconds& delay);
 

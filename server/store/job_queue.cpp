@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <utility>
 
 #include "core/util/error.h"
 #include "server/store/artifact_store.h"
@@ -19,6 +20,7 @@ using v1::JobState;
 constexpr uint32_t kMaxAttemptsCap = 100;
 constexpr int kDefaultPageSize = 100;
 constexpr int kMaxPageSize = 1000;
+constexpr size_t kMaxLogLineBytes = 4096;
 
 constexpr const char* kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS jobs (
@@ -43,7 +45,8 @@ CREATE TABLE IF NOT EXISTS jobs (
   lease_deadline_ms INTEGER NOT NULL DEFAULT 0,
   progress_moved_ms INTEGER NOT NULL DEFAULT 0,
   cancel_requested INTEGER NOT NULL DEFAULT 0,
-  version INTEGER NOT NULL DEFAULT 0);
+  version INTEGER NOT NULL DEFAULT 0,
+  run_ms REAL NOT NULL DEFAULT 0);        -- the worker's own time in the work
 CREATE INDEX IF NOT EXISTS jobs_by_readiness ON jobs(state, priority DESC, seq);
 CREATE INDEX IF NOT EXISTS jobs_by_fabric ON jobs(fabric_key, state);
 CREATE TABLE IF NOT EXISTS job_deps (
@@ -72,7 +75,7 @@ CREATE TABLE IF NOT EXISTS leases (
 constexpr const char* kRowColumns =
     "seq, kind, state, priority, attempts, max_attempts, payload, client_request_id, fabric_key, "
     "progress_fraction, progress_stage, submitted_ms, started_ms, finished_ms, results, error, worker_id, "
-    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested";
+    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested, run_ms";
 
 std::string JobId(int64_t seq) { return "job-" + std::to_string(seq); }
 
@@ -90,10 +93,6 @@ std::optional<int64_t> ParseJobId(std::string_view id) {
 
 // "SUCCEEDED" rather than "JOB_STATE_SUCCEEDED" in messages.
 std::string StateName(JobState state) { return v1::JobState_Name(state).substr(std::string_view("JOB_STATE_").size()); }
-
-bool IsTerminal(JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
 
 // The payload alone, serialised deterministically: stored, and compared when a
 // client request id is reused.
@@ -124,7 +123,20 @@ std::string DependencyError(const std::string& id, JobState state, const std::st
 
 std::string Seconds(int64_t ms) { return std::to_string(ms / 1000) + " s"; }
 
+// Columns added after a table's first release: a data directory made by an older
+// server gains them when opened (CREATE TABLE IF NOT EXISTS leaves it as it was).
+void AddColumnIfMissing(SqliteDb& db, const std::string& table, const std::string& column,
+                        const std::string& definition) {
+  auto found = db.Query("SELECT COUNT(*) FROM pragma_table_info(?) WHERE name = ?", table, column);
+  found.Step();
+  if (found.Int(0) == 0) db.Exec("ALTER TABLE " + table + " ADD COLUMN " + column + " " + definition);
+}
+
 }  // namespace
+
+bool IsTerminal(JobState state) {
+  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
+}
 
 // The mutable columns of one job row, read in one query.
 struct JobQueue::Row {
@@ -147,6 +159,7 @@ struct JobQueue::Row {
   int64_t lease_deadline_ms = 0;
   int64_t progress_moved_ms = 0;
   bool cancel_requested = false;
+  double run_ms = 0;
 
   std::string id() const { return JobId(seq); }
   bool leased() const { return state == v1::JOB_STATE_LEASED || state == v1::JOB_STATE_RUNNING; }
@@ -185,19 +198,28 @@ struct JobQueue::Row {
     row.lease_deadline_ms = s.Int(18);
     row.progress_moved_ms = s.Int(19);
     row.cancel_requested = s.Int(20) != 0;
+    row.run_ms = s.Double(21);
     return row;
   }
 };
 
 // A change to the queue: holds the mutex and a write transaction; Commit() makes
-// it durable and wakes every waiter. Destroyed uncommitted (an exception), it
-// rolls back and leaves the queue as it was.
+// it durable, wakes every waiter, releases the mutex and then tells the ended-job
+// listener about the jobs the change ended. Destroyed uncommitted (an exception),
+// it rolls back and leaves the queue as it was.
 class JobQueue::Txn {
  public:
-  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) {}
+  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) { queue_.ended_.clear(); }
   void Commit() {
     txn_.Commit();
     queue_.changed_.notify_all();
+    auto ended = std::exchange(queue_.ended_, {});
+    const auto listener = queue_.on_ended_;
+    if (!listener) queue_.unheard_.insert(queue_.unheard_.end(), ended.begin(), ended.end());
+    lock_.unlock();
+    if (listener) {
+      for (const auto& [id, kind] : ended) listener(id, kind);
+    }
   }
 
  private:
@@ -209,11 +231,17 @@ class JobQueue::Txn {
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
   if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
-      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0) {
+      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0 ||
+      options_.log_keep_bytes < static_cast<int64_t>(kMaxLogLineBytes)) {
     throw Error(ErrorCode::kInvalidArgument,
-                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100]");
+                "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100], "
+                "log_keep_bytes at least 4096");
   }
   db_->Exec(kSchema);
+  // Live workers, in memory only (TEMP): a restarted server learns them again as
+  // they register and lease.
+  db_->Exec("CREATE TEMP TABLE live_workers (worker_id TEXT PRIMARY KEY, seen_ms INTEGER NOT NULL)");
+  AddColumnIfMissing(*db_, "jobs", "run_ms", "REAL NOT NULL DEFAULT 0");
   {
     auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
     max_version.Step();
@@ -273,6 +301,7 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   job.mutable_timings()->set_submitted_ms(row.submitted_ms);
   job.mutable_timings()->set_started_ms(row.started_ms);
   job.mutable_timings()->set_finished_ms(row.finished_ms);
+  job.mutable_timings()->set_run_ms(row.run_ms);
   for (size_t begin = 0; begin < row.results.size();) {
     const size_t end = std::min(row.results.find('\n', begin), row.results.size());
     job.add_result_artifacts(row.results.substr(begin, end - begin));
@@ -295,11 +324,42 @@ void JobQueue::Touch(int64_t seq) {
 }
 
 void JobQueue::WriteLog(int64_t seq, const std::string& line) {
+  const std::string text = line.size() <= kMaxLogLineBytes
+                               ? line
+                               : line.substr(0, kMaxLogLineBytes) + " … (" +
+                                     std::to_string(line.size() - kMaxLogLineBytes) + " bytes cut)";
   db_->Run(
       "INSERT INTO job_log (job_seq, line, text) "
       "VALUES (?1, (SELECT COALESCE(MAX(line) + 1, 0) FROM job_log WHERE job_seq = ?1), ?2)",
-      seq, line);
+      seq, text);
   Touch(seq);
+  auto total_query = db_->Query("SELECT COALESCE(SUM(LENGTH(CAST(text AS BLOB))), 0) FROM job_log WHERE job_seq = ?",
+                                seq);
+  total_query.Step();
+  int64_t total = total_query.Int(0);
+  const int64_t keep = options_.log_keep_bytes;
+  if (total <= 2 * keep) return;
+  // Over the cap: the head (the first lines within `keep` bytes) stays; the oldest
+  // lines after it go until the rest fits in `keep` bytes too.
+  int64_t head_bytes = 0;
+  int64_t head_end = -1;  // the last line of the head
+  std::vector<std::pair<int64_t, int64_t>> tail;  // (line, bytes), oldest first
+  for (auto rows = db_->Query("SELECT line, LENGTH(CAST(text AS BLOB)) FROM job_log WHERE job_seq = ? ORDER BY line",
+                              seq);
+       rows.Step();) {
+    if (tail.empty() && rows.Int(0) == head_end + 1 && head_bytes + rows.Int(1) <= keep) {
+      head_bytes += rows.Int(1);
+      head_end = rows.Int(0);
+    } else {
+      tail.emplace_back(rows.Int(0), rows.Int(1));
+    }
+  }
+  int64_t drop_through = head_end;
+  for (size_t i = 0; i + 1 < tail.size() && total > 2 * keep; ++i) {
+    total -= tail[i].second;
+    drop_through = tail[i].first;
+  }
+  db_->Run("DELETE FROM job_log WHERE job_seq = ? AND line > ? AND line <= ?", seq, head_end, drop_through);
 }
 
 // --- Transitions (mu_ held, inside a transaction) -----------------------------------
@@ -357,6 +417,7 @@ void JobQueue::Finish(const Row& row, JobState state, const std::string& error, 
       "lease_deadline_ms = 0 WHERE seq = ?",
       static_cast<int>(state), error, now_ms, row.seq);
   WriteLog(row.seq, "[queue] " + StateName(state) + (error.empty() ? "" : ": " + error));
+  ended_.emplace_back(row.id(), row.kind);
   if (state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED) {
     FailDependants(row.seq, DependencyError(row.id(), state, error), now_ms);
   }
@@ -374,7 +435,7 @@ void JobQueue::FailDependants(int64_t dependency_seq, const std::string& error, 
 
 // --- Submitting -----------------------------------------------------------------------
 
-v1::Job JobQueue::Submit(const v1::Job& job) {
+void JobQueue::CheckSubmission(const v1::Job& job) {
   const bool payload_matches =
       (job.kind() == v1::JOB_KIND_PRECOMPUTE && job.has_precompute()) ||
       (job.kind() == v1::JOB_KIND_RENDER && job.has_render());
@@ -386,19 +447,45 @@ v1::Job JobQueue::Submit(const v1::Job& job) {
     throw Error(ErrorCode::kInvalidArgument,
                 "job.max_attempts: " + std::to_string(job.max_attempts()) + " exceeds " + std::to_string(kMaxAttemptsCap));
   }
-  Txn txn(*this);
-  if (!job.client_request_id().empty()) {
-    auto existing = db_->Query("SELECT seq FROM jobs WHERE client_request_id = ?", job.client_request_id());
-    if (existing.Step()) {
-      const Row row = RequireRow(JobId(existing.Int(0)));
-      if (row.kind != job.kind() || row.payload != PayloadBytes(job)) {
-        throw Error(ErrorCode::kInvalidArgument, "client_request_id '" + job.client_request_id() +
-                                                     "' was already used for a different job (" + row.id() + ")");
-      }
-      return ToJob(row);
-    }
+}
+
+std::optional<v1::Job> JobQueue::FindRetry(const v1::Job& job) const {
+  if (job.client_request_id().empty()) return std::nullopt;
+  auto existing = db_->Query("SELECT seq FROM jobs WHERE client_request_id = ?", job.client_request_id());
+  if (!existing.Step()) return std::nullopt;
+  const Row row = RequireRow(JobId(existing.Int(0)));
+  if (row.kind != job.kind() || row.payload != PayloadBytes(job)) {
+    throw Error(ErrorCode::kInvalidArgument, "client_request_id '" + job.client_request_id() +
+                                                 "' was already used for a different job (" + row.id() + ")");
   }
+  return ToJob(row);
+}
+
+v1::Job JobQueue::Submit(const v1::Job& job) {
+  CheckSubmission(job);
+  Txn txn(*this);
+  if (auto retry = FindRetry(job)) return *retry;
   v1::Job stored = InsertJob(job, clock_.NowMs());
+  txn.Commit();
+  return stored;
+}
+
+v1::Job JobQueue::SubmitDone(const v1::Job& job, const std::vector<std::string>& result_artifacts,
+                             const std::string& note) {
+  CheckSubmission(job);
+  for (size_t i = 0; i < result_artifacts.size(); ++i) {
+    CheckArtifactHash(result_artifacts[i], "result_artifacts[" + std::to_string(i) + "]");
+  }
+  Txn txn(*this);
+  if (auto retry = FindRetry(job)) return *retry;
+  const int64_t now = clock_.NowMs();
+  const v1::Job inserted = InsertJob(job, now);
+  const Row row = RequireRow(inserted.id());
+  db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, started_ms = ? WHERE seq = ?",
+           JoinLines(result_artifacts), now, row.seq);
+  WriteLog(row.seq, "[queue] " + note);
+  Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
+  v1::Job stored = ToJob(RequireRow(inserted.id()));
   txn.Commit();
   return stored;
 }
@@ -437,9 +524,16 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
       "SELECT seq FROM jobs j WHERE state = ?1 "
       "AND NOT EXISTS (SELECT 1 FROM job_deps d JOIN jobs p ON p.seq = d.dep_seq "
       "                WHERE d.job_seq = j.seq AND p.state != ?2) "
-      "AND NOT EXISTS (SELECT 1 FROM job_failed_workers f WHERE f.job_seq = j.seq AND f.worker_id = ?3) "
+      // Not a job this worker failed, unless no other live worker that has not
+      // failed it could take it.
+      "AND NOT (EXISTS (SELECT 1 FROM job_failed_workers f WHERE f.job_seq = j.seq AND f.worker_id = ?3) "
+      "         AND EXISTS (SELECT 1 FROM temp.live_workers l WHERE l.worker_id != ?3 AND l.seen_ms > ?4 "
+      "                     AND l.worker_id NOT IN (SELECT worker_id FROM job_failed_workers g "
+      "                                             WHERE g.job_seq = j.seq))) "
       "ORDER BY priority DESC, seq LIMIT 1",
-      static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED), worker_id);
+      static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED), worker_id,
+      clock_.NowMs() - options_.lease_duration_ms);
+  NoteWorkerLocked(worker_id, clock_.NowMs());
   if (!next.Step()) return std::nullopt;
   const int64_t seq = next.Int(0);
   const int64_t now = clock_.NowMs();
@@ -460,11 +554,22 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
   return JobLease{ToJob(row), token, deadline};
 }
 
+void JobQueue::NoteWorkerLocked(const std::string& worker_id, int64_t now_ms) {
+  db_->Run("INSERT OR REPLACE INTO temp.live_workers (worker_id, seen_ms) VALUES (?, ?)", worker_id, now_ms);
+}
+
+void JobQueue::WorkerSeen(const std::string& worker_id) {
+  if (worker_id.empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id is empty");
+  Txn txn(*this);
+  NoteWorkerLocked(worker_id, clock_.NowMs());
+  txn.Commit();
+}
+
 std::optional<JobLease> JobQueue::Lease(const std::string& worker_id) {
   if (worker_id.empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id is empty");
   Txn txn(*this);
   auto lease = LeaseLocked(worker_id);
-  if (lease) txn.Commit();
+  txn.Commit();  // the worker was seen, leased or not
   return lease;
 }
 
@@ -492,6 +597,7 @@ HeartbeatStatus JobQueue::Heartbeat(const std::string& id, uint64_t token, doubl
   const Row row = RequireRow(id);
   if (!row.leased() || row.lease_token != token) return HeartbeatStatus::kStaleToken;
   const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   const bool moved = fraction != row.progress_fraction || stage != row.progress_stage;
   db_->Run(
       "UPDATE jobs SET state = ?, progress_fraction = ?, progress_stage = ?, lease_deadline_ms = ?, "
@@ -508,18 +614,21 @@ void JobQueue::CheckLease(const std::string& id, uint64_t token) const {
   RequireLease(id, token);
 }
 
-v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts) {
+v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
+                           double run_ms) {
+  if (!(run_ms >= 0)) throw Error(ErrorCode::kInvalidArgument, "run_ms " + std::to_string(run_ms) + " is negative");
   for (size_t i = 0; i < result_artifacts.size(); ++i) {
     CheckArtifactHash(result_artifacts[i], "result_artifacts[" + std::to_string(i) + "]");
   }
   Txn txn(*this);
   const Row row = RequireLease(id, token);
   const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request (the finished results were discarded)", now);
   } else {
-    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1 WHERE seq = ?", JoinLines(result_artifacts),
-             row.seq);
+    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, run_ms = ? WHERE seq = ?",
+             JoinLines(result_artifacts), run_ms, row.seq);
     Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
   }
   v1::Job job = ToJob(RequireRow(id));
@@ -527,13 +636,46 @@ v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vec
   return job;
 }
 
-v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string& error) {
+v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string& error, Failure failure) {
   Txn txn(*this);
   const Row row = RequireLease(id, token);
+  const int64_t now = clock_.NowMs();
+  NoteWorkerLocked(row.worker_id, now);
   db_->Run("INSERT OR IGNORE INTO job_failed_workers (job_seq, worker_id) VALUES (?, ?)", row.seq, row.worker_id);
-  EndAttempt(row, (error.empty() ? "worker reported a failure without a message" : error) + " (worker " +
-                      row.worker_id + ")",
-             clock_.NowMs());
+  const std::string message =
+      (error.empty() ? "worker reported a failure without a message" : error) + " (worker " + row.worker_id + ")";
+  if (failure == Failure::kPermanent && !row.cancel_requested) {
+    WriteLog(row.seq, "[queue] attempt " + std::to_string(row.attempts) + " failed permanently (bad input, not retried): " +
+                          message);
+    Finish(row, v1::JOB_STATE_FAILED, message, now);
+  } else {
+    EndAttempt(row, message, now);
+  }
+  v1::Job job = ToJob(RequireRow(id));
+  txn.Commit();
+  return job;
+}
+
+v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::string& reason,
+                           const std::string& wait_for) {
+  Txn txn(*this);
+  const Row row = RequireLease(id, token);
+  const int64_t now = clock_.NowMs();  // (the worker is not noted live: it is going away)
+  if (row.cancel_requested) {
+    Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request", now);
+  } else {
+    db_->Run(
+        "UPDATE jobs SET state = ?, attempts = attempts - 1, worker_id = '', lease_token = 0, lease_deadline_ms = 0 "
+        "WHERE seq = ?",
+        static_cast<int>(v1::JOB_STATE_QUEUED), row.seq);
+    const std::optional<Row> dependency = wait_for.empty() ? std::nullopt : std::optional(RequireRow(wait_for));
+    if (dependency) db_->Run("INSERT INTO job_deps (job_seq, dep_seq) VALUES (?, ?)", row.seq, dependency->seq);
+    WriteLog(row.seq, "[queue] handed back by worker " + row.worker_id + " (" + reason + "); requeued" +
+                          (dependency ? " to wait for " + wait_for : "") + ", the attempt not counted");
+    if (dependency && (dependency->state == v1::JOB_STATE_FAILED || dependency->state == v1::JOB_STATE_CANCELLED)) {
+      Finish(*FindRow(id), v1::JOB_STATE_FAILED, DependencyError(wait_for, dependency->state, dependency->error), now);
+    }
+  }
   v1::Job job = ToJob(RequireRow(id));
   txn.Commit();
   return job;
@@ -644,15 +786,23 @@ void JobQueue::AppendLog(const std::string& id, const std::string& line) {
   txn.Commit();
 }
 
-std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line) const {
+std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line, int64_t* next_line) const {
   if (from_line < 0) throw Error(ErrorCode::kInvalidArgument, "from_line " + std::to_string(from_line) + " is negative");
   std::lock_guard lock(mu_);
   std::vector<std::string> lines;
-  for (auto query = db_->Query("SELECT text FROM job_log WHERE job_seq = ? AND line >= ? ORDER BY line",
+  int64_t expected = from_line;
+  for (auto query = db_->Query("SELECT line, text FROM job_log WHERE job_seq = ? AND line >= ? ORDER BY line",
                                RequireRow(id).seq, from_line);
        query.Step();) {
-    lines.push_back(query.Text(0));
+    const int64_t line = query.Int(0);
+    if (line > expected) {
+      lines.push_back("… " + std::to_string(line - expected) + " log line(s) truncated (a job's log keeps its first and last " +
+                      std::to_string(options_.log_keep_bytes >> 10) + " KiB) …");
+    }
+    lines.push_back(query.Text(1));
+    expected = line + 1;
   }
+  if (next_line) *next_line = expected;
   return lines;
 }
 
@@ -676,6 +826,16 @@ std::optional<uint64_t> JobQueue::WaitForChange(const std::string& id, uint64_t 
     return std::nullopt;
   }
   return version_;
+}
+
+void JobQueue::OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener) {
+  std::vector<std::pair<std::string, v1::JobKind>> unheard;
+  {
+    std::lock_guard lock(mu_);
+    on_ended_ = listener;
+    unheard = std::exchange(unheard_, {});
+  }
+  for (const auto& [id, kind] : unheard) listener(id, kind);
 }
 
 void JobQueue::Shutdown() {

@@ -7,16 +7,20 @@
 //
 // States: QUEUED -> LEASED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED.
 // - Lease gives the highest-priority job (FIFO within a priority) whose dependencies
-//   all SUCCEEDED and which the asking worker has not failed before. Each lease
+//   all SUCCEEDED. A worker that failed a job is not given it again while another
+//   live worker (seen within the lease duration: leasing, heartbeating, reporting or
+//   just registered) that has not failed it exists; when there is none, the job goes
+//   back to a worker that failed it, so a farm of one still uses every attempt. Each lease
 //   carries a fencing token, unique and increasing across the queue's lifetime:
 //   Heartbeat, Complete, Fail and CheckLease must present the current one, so a
 //   worker whose lease expired (or was voided by a server restart) can never report
 //   on the job again, and a job never completes twice.
-// - A lease ends by Complete, Fail, expiry (no heartbeat before the deadline),
+// - A lease ends by Complete, Fail, HandBack, expiry (no heartbeat before the deadline),
 //   being stuck (heartbeats, but progress has not moved for `stuck_after_ms`), or a
 //   server restart (every LEASED/RUNNING job is requeued when the queue is opened).
-//   Every way but Complete is a failed attempt: the job is requeued while
-//   attempts < max_attempts, otherwise it ends FAILED with the last error.
+//   Every way but Complete and HandBack is a failed attempt: the job is requeued while
+//   attempts < max_attempts, otherwise it ends FAILED with the last error. A
+//   failure the worker knows to be permanent (bad input) ends the job FAILED at once.
 // - A job that ends FAILED or CANCELLED fails every job that depends on it
 //   (transitively), with an error naming the dependency.
 // - Cancel: a QUEUED job is CANCELLED at once. A leased one gets cancel_requested;
@@ -36,6 +40,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -57,6 +62,11 @@ struct JobQueueOptions {
   int64_t stuck_after_ms = 10 * 60'000;
   // Used when a submitted job leaves max_attempts at 0.
   uint32_t default_max_attempts = 3;
+  // A job's log keeps its first and its last this many bytes (at least 4096); the
+  // lines between are dropped, and Log shows a "… truncated …" line in their
+  // place. A chatty or looping worker cannot fill the disk. One line is cut at
+  // 4096 bytes.
+  int64_t log_keep_bytes = 64 << 10;
 };
 
 struct JobLease {
@@ -70,6 +80,15 @@ enum class HeartbeatStatus {
   kCancelRequested,  // lease extended; stop, then Fail() to end the job CANCELLED
   kStaleToken,       // the lease is gone (expired, requeued, finished): drop the job
 };
+
+// How a worker's failure of a job counts.
+enum class Failure {
+  kRetryable,  // a failed attempt: retried while attempts remain
+  kPermanent,  // bad input (the spec does not validate, a mesh does not parse): FAILED now
+};
+
+// SUCCEEDED, FAILED or CANCELLED: the job will not change again.
+bool IsTerminal(v1::JobState state);
 
 struct JobFilter {
   std::vector<v1::JobState> states;  // empty: any state
@@ -111,6 +130,12 @@ class JobQueue {
   // stored and returned FAILED at once, naming it.
   v1::Job Submit(const v1::Job& job);
 
+  // A job with nothing left to do (a precompute whose fabric is already cached):
+  // checked and stored as Submit does (client_request_id included), but SUCCEEDED
+  // at once with `result_artifacts` (64-hex hashes) and `note` in its log; it is
+  // never leased.
+  v1::Job SubmitDone(const v1::Job& job, const std::vector<std::string>& result_artifacts, const std::string& note);
+
   // The precompute job that will produce fabric `fabric_key`: an active one
   // (QUEUED, LEASED or RUNNING) for that key is joined, otherwise one is created;
   // atomic, so concurrent callers get one job. A joined QUEUED job's priority is
@@ -140,15 +165,33 @@ class JobQueue {
   void CheckLease(const std::string& id, uint64_t token) const;
 
   // Ends the lease successfully with the job's result artifact hashes (64 lowercase
-  // hex digits each, else kInvalidArgument). Returns the job as it ended: SUCCEEDED,
-  // or CANCELLED if a cancel was requested meanwhile. Stale token:
+  // hex digits each, else kInvalidArgument) and the worker's own time in the work
+  // (timings.run_ms; >= 0, else kInvalidArgument). Returns the job as it ended:
+  // SUCCEEDED, or CANCELLED if a cancel was requested meanwhile. Stale token:
   // kFailedPrecondition, nothing changes.
-  v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts);
+  v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
+                   double run_ms = 0);
 
-  // Ends the lease as a failed attempt. The worker will not be given this job
-  // again. Returns the job as it ended: QUEUED (retried), FAILED (attempts used up),
-  // or CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
-  v1::Job Fail(const std::string& id, uint64_t token, const std::string& error);
+  // Ends the lease as a failed attempt. The worker is not given this job again
+  // while another live worker could take it (see above). Returns the job as it
+  // ended: QUEUED (retried), FAILED (attempts used up, or a permanent failure), or
+  // CANCELLED (a cancel was requested). Stale token: kFailedPrecondition.
+  v1::Job Fail(const std::string& id, uint64_t token, const std::string& error,
+               Failure failure = Failure::kRetryable);
+
+  // Ends the lease without it counting as an attempt: a worker that is stopping
+  // (SIGTERM) gives the job back unfinished through no fault of the job's. The job
+  // is QUEUED again with the attempt given back (CANCELLED if a cancel was
+  // requested), and any worker may take it, this one too. `reason` goes to the
+  // log. `wait_for`, if not empty, names a job that the requeued one then depends
+  // on too (a render whose fabric left the cache waits for its new precompute).
+  // Stale token: kFailedPrecondition; unknown `wait_for`: kNotFound.
+  v1::Job HandBack(const std::string& id, uint64_t token, const std::string& reason,
+                   const std::string& wait_for = "");
+
+  // Marks `worker_id` live now (RegisterWorker); leasing, heartbeats and reports
+  // do it too.
+  void WorkerSeen(const std::string& worker_id);
 
   // Ends every lease past its deadline or stuck, as failed attempts. Call it from a
   // timer (every second or so). Returns how many leases it ended.
@@ -169,9 +212,12 @@ class JobQueue {
 
   QueueDepth Depth() const;
 
-  // A job's log: lines appended by its workers and by the queue, numbered from 0.
+  // A job's log: lines appended by its workers and by the queue, numbered from 0,
+  // capped as log_keep_bytes says. Log returns the lines numbered from `from_line`
+  // on, with a "… N lines truncated …" line for each run of dropped ones, and sets
+  // `*next_line` (if given) to the number to ask from next time.
   void AppendLog(const std::string& id, const std::string& line);
-  std::vector<std::string> Log(const std::string& id, int64_t from_line) const;
+  std::vector<std::string> Log(const std::string& id, int64_t from_line, int64_t* next_line = nullptr) const;
 
   // --- Watching -----------------------------------------------------------------
 
@@ -185,6 +231,17 @@ class JobQueue {
   // WaitForChange(id, v, deadline).
   std::optional<uint64_t> WaitForChange(const std::string& id, uint64_t seen_version,
                                         std::chrono::steady_clock::time_point deadline) const;
+
+  // --- Endings -------------------------------------------------------------------
+
+  // `listener` is called once for every job that reaches SUCCEEDED, FAILED or
+  // CANCELLED, however it gets there (a worker's report, a cancel, an expired
+  // lease's last attempt, a failed dependency), after the change is committed and
+  // without the queue's lock held: what the server holds for a job (its meshes'
+  // pins) is released there. Set it once, before the queue is used by others;
+  // jobs ended before (a restart's requeue ending a last attempt, when the queue
+  // was opened) are told to it at once.
+  void OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener);
 
   // Wakes every waiter (LeaseWait, WaitForChange) and makes later waits return at
   // once, so that server shutdown is not held up by long polls.
@@ -200,7 +257,13 @@ class JobQueue {
   Row RequireLease(const std::string& id, uint64_t token) const;
   v1::Job ToJob(const Row& row) const;
   v1::Job InsertJob(const v1::Job& job, int64_t now_ms);
+  // Submit's checks of `job`, outside the lock.
+  static void CheckSubmission(const v1::Job& job);
+  // The job already stored under `job`'s client_request_id (kInvalidArgument if it
+  // is a different job), nullopt when there is none.
+  std::optional<v1::Job> FindRetry(const v1::Job& job) const;
   std::optional<JobLease> LeaseLocked(const std::string& worker_id);
+  void NoteWorkerLocked(const std::string& worker_id, int64_t now_ms);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
   void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
   // Ends every unfinished job depending on `dependency_seq` FAILED with `error`, transitively.
@@ -213,6 +276,11 @@ class JobQueue {
   mutable std::mutex mu_;
   mutable std::condition_variable changed_;
   std::unique_ptr<SqliteDb> db_;
+  std::function<void(const std::string&, v1::JobKind)> on_ended_;
+  // Jobs ended by the open Txn, for on_ended_ once it commits.
+  std::vector<std::pair<std::string, v1::JobKind>> ended_;
+  // Jobs ended while no listener was set, for the listener once it is.
+  std::vector<std::pair<std::string, v1::JobKind>> unheard_;
   uint64_t version_ = 0;
   bool shutdown_ = false;
 };

@@ -79,6 +79,25 @@ TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
 
+TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) {
+  StartServer();
+  client::JobClient client = Client();
+  const v1::Job first = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(first.state(), v1::JOB_STATE_SUCCEEDED) << first.error();
+
+  const v1::Job again = client.Submit(PrecomputeRequest()).job();
+  EXPECT_NE(again.id(), first.id());
+  EXPECT_EQ(again.state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(again.attempts(), 0u);  // never leased
+  EXPECT_EQ(again.fabric_key(), first.fabric_key());
+  EXPECT_THAT(std::vector<std::string>(again.result_artifacts().begin(), again.result_artifacts().end()),
+              ::testing::UnorderedElementsAreArray(first.result_artifacts()));
+  std::string log;
+  for (const std::string& line : client.Log(again.id())) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("is already cached: nothing to compute")) << log;
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
 TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
   StartServer();
   client::JobClient client = Client();
@@ -89,6 +108,8 @@ TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
   const v1::Job done = WaitUntilEnded(client, submitted.job().id());
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
   ASSERT_EQ(done.result_artifacts_size(), 1);
+  EXPECT_GT(done.timings().run_ms(), 0.0);  // the worker's own render time
+  EXPECT_LT(done.timings().run_ms(), static_cast<double>(done.timings().finished_ms() - done.timings().submitted_ms() + 1));
   const Image served = ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
 
   // The core render of the same scene with the same (cached) fitted fabric.
@@ -217,6 +238,68 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 1);
 }
 
+TEST_F(ServiceTest, ARenderLeasedAfterItsFabricWasEvictedPrecomputesItAgain) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  client::JobClient client = Client();
+  const auto run_worker_until_ended = [&](const std::string& id) {
+    worker::WorkerOptions worker_options;
+    worker_options.lease_wait = std::chrono::milliseconds(500);
+    worker::WorkerLoop worker(rpc::MakeChannel(Channel(*server_, "")), worker_options);
+    std::thread thread([&worker] { worker.Run(); });
+    const v1::Job ended = WaitUntilEnded(client, id);
+    worker.Stop();
+    thread.join();
+    return ended;
+  };
+  const v1::Job fabric = run_worker_until_ended(client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(fabric.state(), v1::JOB_STATE_SUCCEEDED) << fabric.error();
+
+  // Submitted while the fabric is cached (no dependency), then the fabric goes.
+  const v1::SubmitJobResponse render = client.Submit(RenderRequest(TinyScene(32, 24)));
+  ASSERT_EQ(render.dependencies_size(), 0);
+  client.DeleteFabric(fabric.fabric_key());
+
+  const v1::Job done = run_worker_until_ended(render.job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.attempts(), 1u);  // the lease that found the fabric gone was given back
+  ASSERT_EQ(done.depends_on_size(), 1);
+  EXPECT_NE(done.depends_on(0), fabric.id());
+  EXPECT_EQ(JobCount(client, v1::JOB_KIND_PRECOMPUTE), 2);
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
+// A local worker whose first job's work throws `failure` (then works normally).
+ServerOptions FailingFirstJob(std::function<void()> failure) {
+  ServerOptions options;
+  options.local_workers = 1;
+  options.local_worker.before_job = [failure, failed = std::make_shared<std::atomic<bool>>(false)](const v1::Job&) {
+    if (!failed->exchange(true)) failure();
+  };
+  return options;
+}
+
+TEST_F(ServiceTest, AJobFailingTransientlyOnTheOnlyWorkerSucceedsOnItsSecondAttempt) {
+  StartServer(FailingFirstJob([] { throw std::runtime_error("injected: out of GPU memory"); }));
+  client::JobClient client = Client();
+  const v1::Job done = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.attempts(), 2u);
+  std::string log;
+  for (const std::string& line : client.Log(done.id())) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("attempt 1 of 3 failed: internal error: injected: out of GPU memory")) << log;
+}
+
+TEST_F(ServiceTest, APermanentFailureEndsTheJobFailedAtOnceWithItsError) {
+  StartServer(FailingFirstJob([] { throw Error(ErrorCode::kInvalidArgument, "injected: mesh does not parse"); }));
+  client::JobClient client = Client();
+  const v1::Job done = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  EXPECT_EQ(done.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(done.attempts(), 1u);
+  EXPECT_THAT(done.error(), HasSubstr("injected: mesh does not parse"));
+}
+
 // A precompute big enough to still be running when a test interrupts it.
 v1::SubmitJobRequest SlowPrecomputeRequest() {
   v1::SubmitJobRequest request = PrecomputeRequest();
@@ -272,8 +355,10 @@ TEST_F(ServiceTest, AStoppingWorkerHandsItsPrecomputeBack) {
 
   const v1::Job job = client.Get(id);
   EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED);  // requeued for another worker
-  EXPECT_EQ(job.attempts(), 1u);
-  EXPECT_THAT(job.error(), HasSubstr("handed back"));
+  EXPECT_EQ(job.attempts(), 0u);                 // a hand-back uses up no attempt
+  std::string log;
+  for (const std::string& line : client.Log(id)) log += line + "\n";
+  EXPECT_THAT(log, HasSubstr("handed back: worker worker is stopping")) << log;
   EXPECT_EQ(worker.completed_jobs(), 0u);
 }
 

@@ -2,6 +2,8 @@
 // precompute to asset files and back, a render to an encoded frame.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <set>
 
@@ -65,6 +67,38 @@ TEST(JobRunnerTest, ARenderWithoutItsFabricIsRefusedNamingTheObject) {
     EXPECT_EQ(error.code(), ErrorCode::kFailedPrecondition);
     EXPECT_NE(std::string(error.what()).find("cloth"), std::string::npos) << error.what();
   }
+}
+
+// A directory named like a worker's scratch directory, with a file in it.
+std::filesystem::path FakeScratch(pid_t pid, const std::string& suffix) {
+  const auto path = std::filesystem::temp_directory_path() / ("loom-worker-" + std::to_string(pid) + "-" + suffix);
+  std::filesystem::create_directories(path);
+  WriteFileAtomic(path / "lut.exr", "left over");
+  return path;
+}
+
+TEST(JobRunnerTest, ScratchDirectoryIsRemovedAtExitAndDeadWorkersOnesAtStart) {
+  // A process that is gone (reaped, so its pid names no process) left its directory.
+  const pid_t dead = fork();
+  ASSERT_GE(dead, 0);
+  if (dead == 0) _exit(0);
+  ASSERT_EQ(waitpid(dead, nullptr, 0), dead);
+  const auto stale = FakeScratch(dead, "0");
+  const auto live = FakeScratch(::getpid(), "live-test");  // this process is alive: kept
+
+  std::filesystem::path scratch;
+  {
+    JobRunner runner(gl::DefaultContextOptions());
+    scratch = runner.scratch_directory();
+    EXPECT_TRUE(std::filesystem::is_directory(scratch));
+    EXPECT_FALSE(std::filesystem::exists(stale));
+    EXPECT_TRUE(std::filesystem::exists(live / "lut.exr"));
+    // A failing step leaves nothing behind either.
+    EXPECT_THROW(runner.ReadAsset({{"lut.exr", "not an EXR"}}), Error);
+    EXPECT_TRUE(std::filesystem::is_empty(scratch));
+  }
+  EXPECT_FALSE(std::filesystem::exists(scratch));
+  std::filesystem::remove_all(live);
 }
 
 }  // namespace

@@ -7,10 +7,12 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "tests/server/service_fixture.h"
+#include "worker/job_runner.h"
 
 extern char** environ;
 
@@ -25,6 +27,16 @@ pid_t SpawnWorker(const std::string& address) {
   pid_t pid = -1;
   EXPECT_EQ(posix_spawn(&pid, LOOM_WORKER, nullptr, nullptr, argv.data(), environ), 0);
   return pid;
+}
+
+// TMPDIR/loom-worker-<pid>-* (worker/job_runner.h).
+int ScratchDirectoriesOf(pid_t pid) {
+  const std::string prefix = "loom-worker-" + std::to_string(pid) + "-";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::temp_directory_path())) {
+    count += entry.path().filename().string().starts_with(prefix);
+  }
+  return count;
 }
 
 int CountLines(const std::vector<std::string>& lines, const std::string& text) {
@@ -59,6 +71,13 @@ TEST_F(ServiceTest, TwoHundredJobsTwoWorkersOneKilledEveryJobSucceedsOnce) {
   int status = 0;
   waitpid(survivor, &status, 0);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
+
+  // Scratch directories: the SIGTERMed worker removed its own; the SIGKILLed one
+  // could not, and the next worker to start removes it (here, or any other process
+  // making a JobRunner meanwhile: tests run in parallel).
+  EXPECT_EQ(ScratchDirectoriesOf(survivor), 0);
+  worker::JobRunner next_worker(gl::DefaultContextOptions());
+  EXPECT_EQ(ScratchDirectoriesOf(doomed), 0);
 }
 
 }  // namespace

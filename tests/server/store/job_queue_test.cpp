@@ -2,13 +2,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
+#include <cstdio>
 #include <cmath>
 #include <latch>
 #include <map>
 #include <set>
 #include <thread>
 
+#include "server/store/sqlite_db.h"
 #include "store_test_util.h"
 
 namespace loom::server {
@@ -243,11 +246,23 @@ TEST_F(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
   EXPECT_EQ(running.progress().stage(), "acquisition: view 16/64");
   EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, 1.5, "x"), ErrorCode::kInvalidArgument, "[0, 1]");
   EXPECT_LOOM_ERROR(queue_->Heartbeat(id, lease.token, std::nan(""), "x"), ErrorCode::kInvalidArgument, "[0, 1]");
-  const auto done = queue_->Complete(id, lease.token, {kHash});
+  EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}, -1), ErrorCode::kInvalidArgument, "run_ms");
+  const auto done = queue_->Complete(id, lease.token, {kHash}, 12.5);
   EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED);
   EXPECT_EQ(done.result_artifacts_size(), 1);
   EXPECT_EQ(done.result_artifacts(0), kHash);
   EXPECT_EQ(done.timings().finished_ms(), clock_.NowMs());
+  EXPECT_DOUBLE_EQ(done.timings().run_ms(), 12.5);
+}
+
+TEST_F(JobQueueTest, ADatabaseFromBeforeRunTimesGainsTheColumnWhenOpened) {
+  const auto id = queue_->Submit(Render()).id();
+  queue_.reset();
+  SqliteDb(dir_ / "jobs.db").Exec("ALTER TABLE jobs DROP COLUMN run_ms");
+  Reopen();
+  const JobLease lease = MustLease("w1");
+  ASSERT_EQ(lease.job.id(), id);
+  EXPECT_DOUBLE_EQ(queue_->Complete(id, lease.token, {kHash}, 7).timings().run_ms(), 7);
 }
 
 TEST_F(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
@@ -274,13 +289,85 @@ TEST_F(JobQueueTest, ExpiryCountsAsAnAttempt) {
   EXPECT_NE(queue_->Get(id).error().find("lease expired"), std::string::npos);
 }
 
-TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgain) {
+TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgainWhileAnotherLiveWorkerCouldTakeIt) {
   const auto id = queue_->Submit(Render()).id();
+  queue_->WorkerSeen("w2");
   queue_->Fail(id, MustLease("w1").token, "out of GPU memory");
   EXPECT_FALSE(queue_->Lease("w1").has_value());
   const JobLease other = MustLease("w2");
   EXPECT_EQ(other.job.id(), id);
   EXPECT_EQ(other.job.error(), "out of GPU memory (worker w1)");
+}
+
+TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
+  const auto id = queue_->Submit(Render()).id();
+  queue_->WorkerSeen("w2");
+  queue_->Fail(id, MustLease("w1").token, "transient 1");
+  EXPECT_FALSE(queue_->Lease("w1").has_value());  // w2 is live and has not failed it
+  clock_.Advance(30'001);                          // w2 not seen for a lease duration: gone
+  const JobLease second = MustLease("w1");
+  EXPECT_EQ(second.job.attempts(), 2u);
+  queue_->Fail(id, second.token, "transient 2");
+  // A worker that failed it too does not keep it from w1.
+  queue_->WorkerSeen("w2");
+  queue_->Fail(id, MustLease("w2").token, "transient 3");
+  const auto failed = queue_->Get(id);
+  EXPECT_EQ(failed.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(failed.error(), "transient 3 (worker w2)");
+}
+
+TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
+  auto job = Render();
+  job.set_max_attempts(1);
+  const auto id = queue_->Submit(job).id();
+  queue_->WorkerSeen("w2");
+  for (int stop = 0; stop < 3; ++stop) {
+    const JobLease lease = MustLease("w1");  // the same worker: a hand-back excludes no one
+    EXPECT_EQ(lease.job.attempts(), 1u);
+    const auto requeued = queue_->HandBack(id, lease.token, "worker w1 is stopping");
+    EXPECT_EQ(requeued.state(), v1::JOB_STATE_QUEUED);
+    EXPECT_EQ(requeued.attempts(), 0u);
+    EXPECT_LOOM_ERROR(queue_->HandBack(id, lease.token, "again"), ErrorCode::kFailedPrecondition, "stale");
+  }
+  const JobLease last = MustLease("w1");
+  EXPECT_EQ(queue_->Complete(id, last.token, {kHash}).state(), v1::JOB_STATE_SUCCEEDED);
+  const auto log = queue_->Log(id, 0);
+  EXPECT_NE(std::find(log.begin(), log.end(),
+                      "[queue] handed back by worker w1 (worker w1 is stopping); requeued, the attempt not counted"),
+            log.end());
+}
+
+TEST_F(JobQueueTest, AHandBackCanMakeTheJobWaitForAnother) {
+  const auto render = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0).id();
+  const auto waiting = queue_->HandBack(render, lease.token, "fabric left the cache", precompute);
+  EXPECT_EQ(waiting.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(waiting.attempts(), 0u);
+  EXPECT_EQ(std::vector<std::string>(waiting.depends_on().begin(), waiting.depends_on().end()),
+            std::vector<std::string>{precompute});
+  const JobLease next = MustLease("w1");
+  EXPECT_EQ(next.job.id(), precompute);  // the render waits for it
+  EXPECT_FALSE(queue_->Lease("w2").has_value());
+  queue_->Complete(precompute, next.token, {kHash});
+  EXPECT_EQ(MustLease("w2").job.id(), render);
+}
+
+TEST_F(JobQueueTest, AHandBackAfterACancelRequestEndsCancelled) {
+  const auto id = queue_->Submit(Render()).id();
+  const JobLease lease = MustLease("w1");
+  queue_->Cancel(id);
+  EXPECT_EQ(queue_->HandBack(id, lease.token, "stopping").state(), v1::JOB_STATE_CANCELLED);
+}
+
+TEST_F(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
+  const auto id = queue_->Submit(Render()).id();
+  const auto ended = queue_->Fail(id, MustLease("w1").token, "scene.render.width: 0 is below 1", Failure::kPermanent);
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(ended.attempts(), 1u);
+  EXPECT_EQ(ended.max_attempts(), 3u);
+  EXPECT_EQ(ended.error(), "scene.render.width: 0 is below 1 (worker w1)");
+  EXPECT_FALSE(queue_->Lease("w2").has_value());
 }
 
 TEST_F(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
@@ -526,6 +613,44 @@ TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
   EXPECT_EQ(queue_->Log(id, 3), (std::vector<std::string>{"rendering", "[queue] SUCCEEDED"}));
   EXPECT_TRUE(queue_->Log(id, 5).empty());
   EXPECT_LOOM_ERROR(queue_->Log(id, -1), ErrorCode::kInvalidArgument, "negative");
+}
+
+TEST_F(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
+  Reopen(JobQueueOptions{.log_keep_bytes = 4096});
+  const auto id = queue_->Submit(Render()).id();
+  const auto numbered = [](int n) {
+    char text[24];
+    std::snprintf(text, sizeof text, "line %03d ", n);
+    return std::string(text) + std::string(51, 'x');  // 60 bytes
+  };
+  for (int n = 0; n < 300; ++n) queue_->AppendLog(id, numbered(n));  // 18000 bytes
+
+  int64_t next = 0;
+  const auto log = queue_->Log(id, 0, &next);
+  size_t bytes = 0;
+  for (const auto& line : log) bytes += line.size();
+  EXPECT_LE(bytes, 2 * 4096 + 200u);
+  EXPECT_GE(bytes, 2 * 4096 - 2 * 60u);
+  EXPECT_EQ(log.front(), "[queue] submitted");
+  EXPECT_EQ(log[1], numbered(0));
+  EXPECT_EQ(log.back(), numbered(299));
+  const auto marker = std::find_if(log.begin(), log.end(), [](const std::string& l) { return l.find("truncated") != std::string::npos; });
+  ASSERT_NE(marker, log.end());
+  EXPECT_EQ(std::count_if(log.begin(), log.end(), [](const std::string& l) { return l.find("truncated") != std::string::npos; }), 1);
+  EXPECT_EQ(*(marker - 1), numbered(static_cast<int>(marker - log.begin()) - 2));  // the head is whole up to the cut
+  EXPECT_EQ(next, 301);  // "[queue] submitted" and 300 lines
+
+  // A reader resuming inside the dropped lines is told so, then gets the tail.
+  const auto resumed = queue_->Log(id, 100);
+  EXPECT_NE(resumed.front().find("truncated"), std::string::npos) << resumed.front();
+  EXPECT_EQ(resumed.back(), numbered(299));
+
+  // One oversized line is cut.
+  queue_->AppendLog(id, std::string(10'000, 'y'));
+  const auto last = queue_->Log(id, next).back();
+  EXPECT_EQ(last.substr(0, 4096), std::string(4096, 'y'));
+  EXPECT_NE(last.find("5904 bytes cut"), std::string::npos);
+  EXPECT_LOOM_ERROR(Reopen(JobQueueOptions{.log_keep_bytes = 100}), ErrorCode::kInvalidArgument, "log_keep_bytes");
 }
 
 TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
