@@ -26,15 +26,16 @@ ComparisonOptions GrazingView(float tilt) {
 // yarns hide each other. svbrdf holds T(v) of the outermost stored ring of views
 // (72° on a 6×6 grid) and picks one isotropic level from the footprint, so it
 // point-samples the long axis of the footprint (moiré across the wales) and comes
-// out darker the closer the view is to the horizon: measured mean radiance 0.85,
-// 0.68 and 0.57 of the reference's at 80°, 85° and 89°.
+// out darker the closer the view is to the horizon: measured mean radiance 0.94,
+// 0.81 and 0.74 of the reference's at 80°, 85° and 89° (0.85, 0.68 and 0.57 while
+// alpha was held at the 72° ring's value, letting the black background through).
 TEST(StabilityGrazing, KnitFromEightyToEightyNineDegrees) {
   struct Case {
     float tilt;
     ComparisonBounds bounds;
   };
-  for (const Case& c : {Case{80, {AtLeast(10.5), AtMost(0.25)}}, Case{85, {AtLeast(8.0), AtMost(0.4)}},
-                        Case{89, {AtLeast(6.5), AtMost(0.55)}}}) {
+  for (const Case& c : {Case{80, {AtLeast(11.0), AtMost(0.15)}}, Case{85, {AtLeast(9.5), AtMost(0.3)}},
+                        Case{89, {AtLeast(9.0), AtMost(0.4)}}}) {
     const std::string regime = "grazing_" + std::to_string(static_cast<int>(c.tilt)) + "deg";
     const v1::SceneSpec scene = MakeComparisonScene(GrazingView(c.tilt));
     CompareMethods(regime, RenderSvbrdf(scene), RenderReference(scene), c.bounds);
