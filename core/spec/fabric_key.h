@@ -16,9 +16,10 @@
 
 namespace loom {
 
-// Bumped whenever the asset layout or the meaning of a fitted parameter changes:
+// Bumped whenever the asset layout or the meaning of a fitted parameter changes
+// (2: 32-bit lobe coefficients and frame in half-float assets; the shortened LUT step):
 // it invalidates every cached fabric.
-inline constexpr uint32_t kAssetFormatVersion = 1;
+inline constexpr uint32_t kAssetFormatVersion = 2;
 
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 
