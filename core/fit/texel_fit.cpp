@@ -114,6 +114,27 @@ double UpdateLut(const TexelGeometry& geometry, const std::vector<double>& radia
   return change;
 }
 
+// Whether every lobe of channel parameters x stays within kMaxLobePeakRatio of the
+// energy-conserving peak. A lobe's largest value over the hemisphere is
+// max_k |C_k|^N (l and v both along the axis of the largest |C_k|); a normalised
+// cosine lobe of exponent N that reflects all the light it receives peaks at
+// (N + 2)/2π. The fit sees the lobe only at the sampled direction pairs, so with few
+// directions (a 2×2 grid) or a highlight narrower than the grid it can place a
+// spike of 10^100 between them, which renders as a highlight hundreds of times too
+// bright (docs/stability.md). Such a fit is treated as failed: fewer lobes.
+bool LobePeaksBounded(const std::vector<double>& x, uint32_t lobes) {
+  constexpr double kMaxLobePeakRatio = 10.0;
+  constexpr double kTwoPi = 6.283185307179586;
+  for (uint32_t i = 0; i < lobes; ++i) {
+    const double* lobe = x.data() + 1 + 4 * i;
+    const double c = std::max({std::abs(lobe[0]), std::abs(lobe[1]), std::abs(lobe[2])});
+    if (c == 0.0) continue;
+    const double n = lobe[3];
+    if (n * std::log(c) > std::log(kMaxLobePeakRatio * (n + 2.0) / kTwoPi)) return false;
+  }
+  return true;
+}
+
 // The layout of `lobes` lobes with the ones from `from` on switched off.
 void SwitchOffLobes(std::vector<double>& x, uint32_t from, uint32_t lobes) {
   x.resize(ParameterCount(lobes), 0.0);
@@ -257,7 +278,7 @@ ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& 
     const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options, lobes == options.lobes ? start : nullptr,
                                              fallback_error, fit);
     iterations = fit.lm_iterations;
-    if (solved && fit.squared_error <= fallback_error) {
+    if (solved && fit.squared_error <= fallback_error && LobePeaksBounded(fit.parameters, lobes)) {
       SwitchOffLobes(fit.parameters, lobes, options.lobes);
       fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
       return fit;

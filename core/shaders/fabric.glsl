@@ -53,9 +53,18 @@ FabricTexel FetchFabricTexel(vec2 tile, int level, vec3 view) {
   // inside this texel's k×k block. The grid coordinate is clamped to the block, so
   // the filter never reads a neighbour.
   float k = float(u_fabric_view_side);
-  vec2 grid = clamp(HemisphereGridCoordinates(view, k), vec2(0.0), vec2(k - 1.0));
+  vec2 unclamped = HemisphereGridCoordinates(view, k);
+  vec2 grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
   vec2 atlas = (vec2(texel) * k + grid + 0.5) / (float(resolution) * k);
   t.lut = textureLod(u_fabric_lut, atlas, float(level));
+  // Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
+  // horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
+  // nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
+  // alpha is 1 there; it is interpolated towards 1 instead of held at the last
+  // ring's value, which let a loose weave at 85° show holes the reference does not
+  // (docs/stability.md).
+  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
+  t.lut.a = mix(t.lut.a, 1.0, clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0));
   return t;
 }
 

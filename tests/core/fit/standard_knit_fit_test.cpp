@@ -57,7 +57,9 @@ TEST(StandardKnitFit, AlternationConvergesOnEveryTexel) {
   }
   std::printf("%zu sequences, %zu with more than two rounds, %zu rounds shortened\n", sequences, multi_round,
               capped_rounds);
-  EXPECT_GT(sequences, 150u);
+  // Of the 192 channels, those that keep a lobe fit (147 since lobes peaking far
+  // above the energy-conserving peak count as failed: texel_fit.cpp LobePeaksBounded).
+  EXPECT_GT(sequences, 140u);
   EXPECT_GT(multi_round, sequences / 4);
 }
 

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <glm/gtc/constants.hpp>
+
+#include "core/acquire/hemisphere_directions.h"
 
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
@@ -121,15 +125,19 @@ FabricTextureData DiffuseFabric(uint32_t resolution, uint32_t view_side, glm::ve
   return data;
 }
 
-// The plane of PlaneScene as cloth with `repeat` tiles, optionally over a red plane.
-std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR") {
+// The plane of PlaneScene as cloth with `repeat` tiles, optionally over a red plane,
+// seen `tilt_degrees` off the normal (the camera moves towards −y).
+std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR",
+                       float tilt_degrees = 0.0f) {
+  const float tilt = glm::radians(tilt_degrees);
   const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
       "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
                                       : "";
   const std::string r = std::to_string(repeat);
   return R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
       "fabric": {"fabric": {"knit": {}}, "repeat_u": )" + r + R"(, "repeat_v": )" + r + "}}" + floor + R"(],
-    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2, "position": {"x": 0, "y": 0, "z": 5},
+    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2, "position": {"x": 0, "y": )" +
+         std::to_string(-5.0f * std::sin(tilt)) + R"(, "z": )" + std::to_string(5.0f * std::cos(tilt)) + R"(},
                "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
     "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2}],
     "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) +
@@ -183,6 +191,30 @@ TEST(SvbrdfFabric, HolesShowTheRedPlaneBehind) {
     EXPECT_NEAR(frame.image.at(24, 56, 1), white, 1e-5f) << msaa;  // texel (1, 0): cloth
     EXPECT_NEAR(frame.image.at(8, 40, 1), white, 1e-5f) << msaa;   // texel (0, 1): cloth
   }
+}
+
+// Beyond the outermost stored ring of views alpha rises linearly (in grid
+// coordinates) to 1 at the horizon: holes close at grazing (fabric.glsl). A white
+// fabric with alpha 0.5 from every stored view, over nothing (black): a pixel shows
+// alpha · 2/π. Head-on the view is inside the 3×3 grid's outermost ring (56°); at
+// 80° it is 0.73 of the way from that ring to the horizon.
+TEST(SvbrdfFabric, AlphaRisesTowardsOneBeyondTheOutermostViewRing) {
+  FabricTextureData data = DiffuseFabric(2, 3, glm::vec3(1.0f));
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        for (uint32_t view = 0; view < 9; ++view) data.Lut(level, x, y, view).a = 0.5f;
+  const auto alpha = [&](float tilt) {
+    return RenderCloth(ClothScene(2, false, 1, "LEVEL_MODE_NONE", tilt), data).image.at(32, 32, 1) /
+           (2.0f / glm::pi<float>());
+  };
+  const float tilt = glm::radians(80.0f);
+  const glm::vec2 grid = HemisphereGridCoordinates(glm::vec3(0.0f, -std::sin(tilt), std::cos(tilt)), 3);
+  const glm::vec2 beyond = glm::max(-grid, grid - 2.0f);
+  const float expected = 0.5f + 0.5f * std::clamp(2.0f * std::max(beyond.x, beyond.y), 0.0f, 1.0f);
+  EXPECT_GT(expected, 0.8f);
+  EXPECT_NEAR(alpha(0.0f), 0.5f, 1e-4f);
+  EXPECT_NEAR(alpha(80.0f), expected, 2e-3f);
 }
 
 TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {

@@ -6,106 +6,29 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <map>
 #include <string>
+#include <vector>
 
-#include "core/gl/egl_context.h"
 #include "core/metrics/image_metrics.h"
-#include "core/precompute/fabric_precompute.h"
-#include "core/render/fabric_textures.h"
-#include "core/render/reference_renderer.h"
-#include "core/render/svbrdf_renderer.h"
-#include "core/spec/defaults.h"
-#include "core/spec/fabric_key.h"
-#include "core/spec/spec_json.h"
-#include "core/spec/validate.h"
+#include "tests/core/render/comparison_scene.h"
 #include "tests/core/render/image_probes.h"
 
 namespace loom {
 namespace {
 
+using testing::ComparisonOptions;
+using testing::MakeComparisonScene;
+using testing::MeanRed;
 using testing::RedFraction;
-
-constexpr int kSize = 96;  // pixels a side; the orthographic view is 1 world unit high
-
-// 16² texels, 6×6 views and lights, one lobe: about 4 s on two cores.
-constexpr const char* kSmallSettings =
-    R"({"spatial_resolution": 16, "view_directions": 36, "light_directions": 36, "lobes": 1})";
-constexpr const char* kKnit = R"({"knit": {}})";
-constexpr const char* kLooseWeave = R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": 0.4}})";
-
-struct SceneOptions {
-  const char* fabric = kKnit;
-  float repeat = 12;           // tiles across the 2 × 2 plane
-  float tilt_degrees = 45;     // camera elevation from the zenith, looking along +y
-  float camera_shift = 0;      // world units along x
-  bool perspective = false;    // same view height at the target as the orthographic view
-  bool red_floor = false;
-  const char* level_mode = "LEVEL_MODE_TRILINEAR";
-};
-
-v1::SceneSpec MakeScene(const SceneOptions& o) {
-  const float t = o.tilt_degrees * 3.14159265f / 180.0f;
-  const float dy = -5.0f * std::sin(t), dz = 5.0f * std::cos(t);
-  const std::string floor = o.red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
-      "transform": {"translation": {"z": -0.5}, "scale": {"x": 6, "y": 6, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
-                                        : "";
-  const std::string x = std::to_string(o.camera_shift), r = std::to_string(o.repeat);
-  const std::string json = std::string(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
-      "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
-      "fabric": {"fabric": )") + o.fabric + R"(, "precompute": )" + kSmallSettings + R"(, "repeat_u": )" + r +
-                           R"(, "repeat_v": )" + r + "}}" + floor + R"(],
-    "camera": {"projection": ")" + (o.perspective ? "PROJECTION_PERSPECTIVE" : "PROJECTION_ORTHOGRAPHIC") +
-                           R"(", "ortho_height": 1, "fov_y_degrees": 11.42, "up": {"x": 0, "y": 1, "z": 0},
-               "position": {"x": )" + x + R"(, "y": )" + std::to_string(dy) + R"(, "z": )" + std::to_string(dz) +
-                           R"(}, "target": {"x": )" + x + R"(, "y": 0, "z": 0}},
-    "lights": [{"direction": {"x": -0.3, "y": -0.5, "z": 1}, "intensity": 3}],
-    "render": {"width": )" + std::to_string(kSize) + R"(, "height": )" + std::to_string(kSize) + R"(, "msaa_samples": 4, "reference_samples": 64, "level_mode": ")" +
-                           o.level_mode + R"("}})";
-  v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
-  ValidateOrThrow(scene);
-  return scene;
-}
-
-// The fabric of a scene's first object on the GPU, precomputed once per fabric.
-const FabricTextures& Textures(const v1::FabricBinding& binding) {
-  static std::map<std::string, std::unique_ptr<FabricTextures>> cache;
-  auto& textures = cache[FabricKey(binding.fabric(), binding.precompute())];
-  if (!textures) {
-    const FittedFabric fit = PrecomputeFabric(binding.fabric(), binding.precompute());
-    textures = std::make_unique<FabricTextures>(FabricTextureData::FromFit(fit), /*half=*/false);
-  }
-  return *textures;
-}
-
-Image RenderSvbrdf(const v1::SceneSpec& scene) {
-  static const auto context = gl::EglContext::Create();
-  static SvbrdfRenderer renderer(*context);
-  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
-  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
-  fabrics[0] = &Textures(scene.objects(0).fabric());
-  return renderer.Render(scene, meshes, fabrics).image;
-}
-
-Image RenderReference(const v1::SceneSpec& scene) {
-  ReferenceRenderer renderer;
-  return renderer.Render(scene, BuildSceneGeometry(scene, FileMeshResolver("."))).image;
-}
-
-double MeanRed(const Image& image) {
-  double sum = 0.0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) sum += image.at(x, y, 0);
-  return sum / (image.width * image.height);
-}
+using testing::RenderReference;
+using testing::RenderSvbrdf;
 
 // Far distance (48 tiles over the plane: a tile spans ~4 px): the fitted levels
 // carry the tile's mean radiance, so the frame's mean matches the reference's.
 TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesFarAwayHasTheReferencesMeanRadiance) {
-  SceneOptions options;
+  ComparisonOptions options;
   options.repeat = 48;
-  const v1::SceneSpec scene = MakeScene(options);
+  const v1::SceneSpec scene = MakeComparisonScene(options);
   const double svbrdf = MeanRed(RenderSvbrdf(scene)), reference = MeanRed(RenderReference(scene));
   RecordProperty("mean_ratio", std::to_string(svbrdf / reference));
   EXPECT_NEAR(svbrdf / reference, 1.0, 0.08) << svbrdf << " vs " << reference;
@@ -114,7 +37,7 @@ TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesFarAwayHasTheReferencesMeanRadianc
 // Mid distance (12 tiles: ~16 px a tile). The per-pixel error is the fit's: a
 // texel's lobes cannot follow the yarn shadows that move with the light.
 TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesMidDistancePsnr) {
-  const v1::SceneSpec scene = MakeScene({});
+  const v1::SceneSpec scene = MakeComparisonScene({});
   const Image svbrdf = RenderSvbrdf(scene), reference = RenderReference(scene);
   const ImageComparison comparison = CompareImages(svbrdf, reference);
   RecordProperty("psnr_db", std::to_string(comparison.psnr_db));
@@ -124,12 +47,12 @@ TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesMidDistancePsnr) {
 }
 
 TEST(SvbrdfVsReference, ALooseWeaveShowsTheRedFloorThroughItsGapsInBothMethods) {
-  SceneOptions loose;
-  loose.fabric = kLooseWeave;
+  ComparisonOptions loose;
+  loose.fabric = testing::kLooseWeave;
   loose.repeat = 6;
   loose.tilt_degrees = 0;
   loose.red_floor = true;
-  const v1::SceneSpec scene = MakeScene(loose);
+  const v1::SceneSpec scene = MakeComparisonScene(loose);
   const double svbrdf = RedFraction(RenderSvbrdf(scene)), reference = RedFraction(RenderReference(scene));
   RecordProperty("red_svbrdf", std::to_string(svbrdf));
   RecordProperty("red_reference", std::to_string(reference));
@@ -146,12 +69,12 @@ TEST(SvbrdfVsReference, TrilinearLevelsFlickerLessThanLevelZeroUnderAOnePixelMov
   const auto flicker = [](const char* mode) {
     std::vector<Image> frames;
     for (int k = 0; k < 3; ++k) {
-      SceneOptions far;
+      ComparisonOptions far;
       far.repeat = 48;
       far.level_mode = mode;
       far.perspective = true;
-      far.camera_shift = static_cast<float>(k) / kSize;  // one pixel of the 1-unit-high view
-      frames.push_back(RenderSvbrdf(MakeScene(far)));
+      far.camera_shift = static_cast<float>(k) / far.size;  // one pixel of the 1-unit-high view
+      frames.push_back(RenderSvbrdf(MakeComparisonScene(far)));
     }
     return TemporalFlicker(frames, -1, 0);
   };

@@ -1,0 +1,68 @@
+// Stability on broken UV parameterisations (issue 7): cloth whose UV map squashes
+// a band of triangles to zero UV area. Mesh preparation keeps them with a fallback
+// tangent (core/scene/mesh_preparation.h); both renderers must draw them without a
+// NaN. Figures and bounds: docs/stability.md.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/scene/scene_geometry.h"
+#include "tests/core/render/comparison_scene.h"
+#include "tests/stability/stability_figures.h"
+
+namespace loom::testing {
+namespace {
+
+constexpr int kGrid = 4;  // quads a side
+
+// The unit square in xy (the built-in plane's placement), kGrid × kGrid quads. Its
+// UVs are the plane's, except that vertex row 2 takes row 1's v, so the quads
+// between rows 1 and 2 have zero UV area (2·kGrid triangles), and the quad in the
+// last row and column has all four UVs equal (2 more).
+std::string SquashedUvPlaneObj() {
+  std::string obj;
+  const auto index = [](int i, int j) { return j * (kGrid + 1) + i + 1; };
+  for (int j = 0; j <= kGrid; ++j) {
+    for (int i = 0; i <= kGrid; ++i) {
+      const float x = static_cast<float>(i) / kGrid, y = static_cast<float>(j) / kGrid;
+      float u = x, v = (j == 2 ? 1.0f : static_cast<float>(j)) / kGrid;
+      if (i >= kGrid - 1 && j >= kGrid - 1) u = v = 0.9f;
+      obj += "v " + std::to_string(x - 0.5f) + " " + std::to_string(y - 0.5f) + " 0\n";
+      obj += "vt " + std::to_string(u) + " " + std::to_string(v) + "\n";
+    }
+  }
+  obj += "vn 0 0 1\n";
+  for (int j = 0; j < kGrid; ++j) {
+    for (int i = 0; i < kGrid; ++i) {
+      const auto corner = [&](int di, int dj) {
+        const std::string k = std::to_string(index(i + di, j + dj));
+        return " " + k + "/" + k + "/1";
+      };
+      obj += "f" + corner(0, 0) + corner(1, 0) + corner(1, 1) + "\n";
+      obj += "f" + corner(0, 0) + corner(1, 1) + corner(0, 1) + "\n";
+    }
+  }
+  return obj;
+}
+
+TEST(StabilityMesh, ZeroAreaUvTrianglesRenderWithoutNaN) {
+  ComparisonOptions options;
+  options.mesh = R"({"obj_path": "squashed_uv_plane.obj"})";
+  const v1::SceneSpec scene = MakeComparisonScene(options);
+  const std::string obj = SquashedUvPlaneObj();
+  const MeshTextResolver resolve = [&](const v1::MeshRef&) { return obj; };
+
+  const std::vector<SceneMesh> meshes = BuildSceneGeometry(scene, resolve);
+  Figure("zero_area_uv", "mesh", "zero_area_uv_triangles", static_cast<double>(meshes[0].report.zero_area_uv_triangles),
+         AtLeast(2 * kGrid + 2));
+  Figure("zero_area_uv", "mesh", "dropped_triangles", static_cast<double>(meshes[0].report.dropped_degenerate_triangles),
+         AtMost(0));
+  // The squashed band shows the fabric stretched to a line in both methods, each
+  // its own way; only the frame's mean is compared.
+  CompareMethods("zero_area_uv", RenderSvbrdf(scene, resolve), RenderReference(scene, resolve),
+                 {AtLeast(12.0), AtMost(0.15)});
+}
+
+}  // namespace
+}  // namespace loom::testing
