@@ -44,8 +44,13 @@ void Replace(const std::filesystem::path& path, const std::string& text) {
 TEST(Bundle, WorkerProbeWithACleanEnvironmentMakesItsGlContext) {
   const CommandResult probe = RunCommand(RunSh(kBundle, "loom-worker --probe --json"));
   ASSERT_EQ(probe.exit_code, 0) << probe.output;
-  const std::string json_line = probe.output.substr(probe.output.find("{\"cores\""));
-  const auto capabilities = nlohmann::json::parse(json_line.substr(0, json_line.find('\n')));
+  // stdout's one JSON line, among stderr's log lines.
+  nlohmann::json capabilities;
+  std::istringstream lines(probe.output);
+  for (std::string line; std::getline(lines, line);) {
+    if (!line.empty() && line[0] == '{') capabilities = nlohmann::json::parse(line);
+  }
+  ASSERT_TRUE(capabilities.contains("gl_renderer")) << probe.output;
   if (std::filesystem::exists("/dev/nvidia0")) {
     EXPECT_FALSE(capabilities["software"].get<bool>()) << probe.output;  // a GPU machine: its driver
   } else {
