@@ -80,6 +80,9 @@ LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
   store_ = std::make_unique<Store>(options_);
 
   grpc::ServerBuilder builder;
+  // gRPC sets SO_REUSEPORT by default: a second server on a port in use would
+  // then start and silently share its connections with the first.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.AddListeningPort(options_.listen, Credentials(options_), &port_);
   builder.RegisterService(&store_->job_service);
   builder.RegisterService(&store_->worker_service);

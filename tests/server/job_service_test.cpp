@@ -62,6 +62,22 @@ Image ReadImageBytes(const std::string& bytes, const std::string& name) {
   return image;
 }
 
+TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  options.data_dir = data_dir_.string() + "-second";
+  options.listen = server_->address();
+  try {
+    LoomServer second(options);
+    FAIL() << "a second server started on " << options.listen;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUnavailable);
+    EXPECT_THAT(e.what(), HasSubstr("cannot listen on " + options.listen));
+  }
+  std::filesystem::remove_all(options.data_dir);
+}
+
 TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
   StartServer();
   client::JobClient client = Client();
