@@ -21,6 +21,7 @@ PACKAGES=(
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev libtinyobjloader-dev
   nlohmann-json3-dev libssl-dev
+  gnuplot-nox
 )
 
 missing=()
