@@ -91,7 +91,7 @@ std::vector<ChartPoint> Aggregate(const CsvTable& table, const std::string& glob
 }
 
 struct Axis {
-  std::string name, label;
+  std::string name, title, label;
   double ChartPoint::*value;
   bool svbrdf_only;  // the reference has no such cost
 };
@@ -101,8 +101,8 @@ struct Metric {
   bool higher_is_better;
 };
 
-const Axis kAxes[] = {{"frame_time", "frame time (ms, CPU wall, log scale)", &ChartPoint::frame_ms, false},
-                      {"precompute_time", "precompute time (s, log scale)", &ChartPoint::precompute_seconds, true}};
+const Axis kAxes[] = {{"frame_time", "frame time", "frame time (ms, CPU wall, log scale)", &ChartPoint::frame_ms, false},
+                      {"precompute_time", "precompute time", "precompute time (s, log scale)", &ChartPoint::precompute_seconds, true}};
 const Metric kMetrics[] = {{"psnr", "PSNR against the ground truth (dB)", &ChartPoint::psnr_db, true},
                            {"perceptual", "perceptual error 1 - SSIM", &ChartPoint::perceptual_error, false}};
 
@@ -213,7 +213,7 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
 
             // One script draws both charts in both formats.
             const auto chart = [&](const Axis& axis, int column) {
-              std::string s = "set multiplot layout 1,2 title " + GnuplotString(title + ": error against " + axis.name) + "\n";
+              std::string s = "set multiplot layout 1,2 title " + GnuplotString(title + ": error against " + axis.title) + "\n";
               for (const Metric& metric : kMetrics) {
                 const int y_column = metric.name == "psnr" ? 5 : 6;
                 s += "set xlabel " + GnuplotString(axis.label) + "\nset ylabel " + GnuplotString(metric.label) + "\n";
@@ -236,9 +236,9 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
             for (size_t a = 0; a < std::size(kAxes); ++a) {
               const int column = a == 0 ? 3 : 4;
               const std::string stem = "error_vs_" + kAxes[a].name;
-              script += "set terminal pngcairo size 1400,600 font ',10'\nset output '" + stem + ".png'\n" +
+              script += "set terminal pngcairo noenhanced size 1400,600 font ',10'\nset output '" + stem + ".png'\n" +
                         chart(kAxes[a], column) + "set output\n";
-              script += "set terminal svg size 1400,600 font ',10' background '#ffffff'\nset output '" + stem +
+              script += "set terminal svg noenhanced size 1400,600 font ',10' background '#ffffff'\nset output '" + stem +
                         ".svg'\n" + chart(kAxes[a], column) + "set output\n";
             }
             WriteFileAtomic(out / "chart.gp", script);

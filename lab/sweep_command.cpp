@@ -24,6 +24,7 @@
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
+#include "core/util/cli_main.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 #include "core/util/stopwatch.h"
@@ -99,8 +100,14 @@ class Sweep {
       : grid_(std::move(grid)), out_(std::move(out)), gl_(gl),
         results_(out_ / (grid_.name + ".csv"), kColumns) {}
 
-  // Measures every row not yet in the CSV; returns how many it measured.
-  size_t Run() {
+  struct Outcome {
+    size_t measured = 0, failed = 0;
+  };
+
+  // Measures every row not yet in the CSV. A row that fails (an Error: a setting
+  // the device cannot render, a fit that throws) is reported and left out of the
+  // CSV, so the others are still measured and a rerun retries it.
+  Outcome Run() {
     size_t pending = 0;
     for (const auto& configuration : grid_.configurations) {
       for (const auto& scene : grid_.scenes) {
@@ -117,7 +124,7 @@ class Sweep {
         MeasureSvbrdf(configuration);
       }
     }
-    return done_;
+    return {done_, failed_};
   }
 
  private:
@@ -140,26 +147,54 @@ class Sweep {
       }
     }
     for (const std::string& key : order) {
-      const CachedFabric cached = LoadOrPrecompute(fabrics.at(key), out_ / "fabrics");
+      CachedFabric cached;
+      if (!Guarded(configuration, by_fabric.at(key), [&] { cached = LoadOrPrecompute(fabrics.at(key), out_ / "fabrics"); })) {
+        continue;
+      }
       const FittedFabrics fits = {{key, &cached.fit}};
       for (const BenchScene* scene : by_fabric.at(key)) {
-        const v1::SceneSpec configured = WithDefaults(ConfiguredScene(configuration, *scene));
-        Frames frames;
-        for (int k = 0; k < grid_.flicker_frames; ++k) {
-          const v1::SceneSpec panned = Panned(configured, k * grid_.flicker_shift_pixels);
-          const auto meshes = BuildSceneGeometry(panned, FileMeshResolver({}));
-          RenderedFrame frame = RenderScene(Renderer(), panned, meshes, fits);
-          frames.images.push_back(std::move(frame.image));
-          frames.cpu_ms.push_back(frame.cpu_ms);
-          frames.gpu_ms.push_back(frame.gpu_ms);
-        }
-        Record(configuration, *scene, configured, frames, cached.precompute_seconds, cached.asset_bytes);
+        Guarded(configuration, {scene}, [&] { MeasureSvbrdfScene(configuration, *scene, cached, fits); });
       }
+    }
+  }
+
+  void MeasureSvbrdfScene(const SweepConfiguration& configuration, const BenchScene& scene,
+                          const CachedFabric& cached, const FittedFabrics& fits) {
+    const v1::SceneSpec configured = WithDefaults(ConfiguredScene(configuration, scene));
+    Frames frames;
+    for (int k = 0; k < grid_.flicker_frames; ++k) {
+      const v1::SceneSpec panned = Panned(configured, k * grid_.flicker_shift_pixels);
+      const auto meshes = BuildSceneGeometry(panned, FileMeshResolver({}));
+      RenderedFrame frame = RenderScene(Renderer(), panned, meshes, fits);
+      frames.images.push_back(std::move(frame.image));
+      frames.cpu_ms.push_back(frame.cpu_ms);
+      frames.gpu_ms.push_back(frame.gpu_ms);
+    }
+    Record(configuration, scene, configured, frames, cached.precompute_seconds, cached.asset_bytes);
+  }
+
+  // Runs `measure`; on an Error counts `scenes` as failed rows and says why.
+  template <typename Measure>
+  bool Guarded(const SweepConfiguration& configuration, const std::vector<const BenchScene*>& scenes,
+               Measure&& measure) {
+    try {
+      measure();
+      return true;
+    } catch (const Error& e) {
+      failed_ += scenes.size();
+      for (const BenchScene* scene : scenes) {
+        std::fprintf(stderr, "[failed] %s %s: %s\n", configuration.name.c_str(), scene->name.c_str(), e.what());
+      }
+      return false;
     }
   }
 
   void MeasureReference(const SweepConfiguration& configuration, const BenchScene& scene) {
     if (!Pending(configuration, scene)) return;
+    Guarded(configuration, {&scene}, [&] { MeasureReferenceScene(configuration, scene); });
+  }
+
+  void MeasureReferenceScene(const SweepConfiguration& configuration, const BenchScene& scene) {
     const v1::SceneSpec configured = WithDefaults(ConfiguredScene(configuration, scene));
     Frames frames;
     for (int k = 0; k < grid_.flicker_frames; ++k) {
@@ -235,7 +270,7 @@ class Sweep {
   std::map<std::string, Image> ground_truth_;
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<SvbrdfRenderer> renderer_;
-  size_t done_ = 0, total_ = 0;
+  size_t done_ = 0, total_ = 0, failed_ = 0;
 };
 
 }  // namespace
@@ -290,13 +325,18 @@ LabCommand AddSweepCommand(CLI::App& app, const LabFlags& flags) {
             const Stopwatch stopwatch;
             const std::string csv = (std::filesystem::path(options->out) / (grid.name + ".csv")).string();
             Sweep sweep(std::move(grid), options->out, options->gl);
-            const size_t measured = sweep.Run();
+            const Sweep::Outcome outcome = sweep.Run();
             if (flags.json) {
-              PrintJson({{"csv", csv}, {"measured", measured}, {"seconds", stopwatch.Seconds()}});
+              PrintJson({{"csv", csv},
+                         {"measured", outcome.measured},
+                         {"failed", outcome.failed},
+                         {"seconds", stopwatch.Seconds()}});
             } else {
-              std::printf("measured %zu rows in %.1f s into %s\n", measured, stopwatch.Seconds(), csv.c_str());
+              std::printf("measured %zu rows in %.1f s into %s; %zu failed\n", outcome.measured,
+                          stopwatch.Seconds(), csv.c_str(), outcome.failed);
             }
-            return 0;
+            // Failed rows are not in the CSV: the sweep is incomplete.
+            return outcome.failed == 0 ? 0 : ExitCodeFor(ErrorCode::kInternal);
           }};
 }
 
