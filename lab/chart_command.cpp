@@ -1,7 +1,7 @@
 // loom-lab chart: a sweep CSV (loom-lab sweep) as speed-versus-accuracy charts.
-// Each configuration becomes one point: its figures averaged over the scenes it
-// was measured on (so compare configurations measured on the same scenes; --scenes
-// narrows the rows). Two charts, each as PNG and SVG, drawn by gnuplot:
+// Each configuration becomes one point: the median of its figures over the scenes
+// it was measured on (so compare configurations measured on the same scenes;
+// --scenes narrows the rows). Two charts, each as PNG and SVG, drawn by gnuplot:
 //
 //   error_vs_frame_time       PSNR and 1 − SSIM against frame milliseconds, every method
 //   error_vs_precompute_time  the same against precompute seconds (svbrdf: the
@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -48,44 +49,44 @@ double Parse(const std::string& field) {
   }
 }
 
-// Mean of each figure per configuration over the rows whose scene matches `glob`,
-// in order of first appearance. Non-finite figures (an identical image's PSNR) are
-// left out of their mean.
+double Median(std::vector<double> values) {
+  if (values.empty()) return NAN;
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// The median of each figure per configuration over the rows whose scene matches
+// `glob`, in order of first appearance. The median, not the mean: a setting that
+// blows up on one scene (a fit extrapolating to 10^20) would otherwise move its
+// point off the chart; such rows are counted in `rows` and listed by the sweep's
+// CSV. Non-finite figures are left out.
 std::vector<ChartPoint> Aggregate(const CsvTable& table, const std::string& glob) {
   const size_t configuration = table.Column("configuration"), scene = table.Column("scene"),
                method = table.Column("method"), frame = table.Column("frame_ms"),
                precompute = table.Column("precompute_seconds"), psnr = table.Column("psnr_db"),
                perceptual = table.Column("perceptual_error");
-  struct Sums {
-    double value[4] = {0, 0, 0, 0};
-    int count[4] = {0, 0, 0, 0};
-  };
   std::vector<ChartPoint> points;
   std::map<std::string, size_t> index;
-  std::vector<Sums> sums;
+  std::vector<std::array<std::vector<double>, 4>> figures;
   for (const auto& row : table.rows) {
     if (!glob.empty() && fnmatch(glob.c_str(), row[scene].c_str(), 0) != 0) continue;
     auto [found, added] = index.emplace(row[configuration], points.size());
     if (added) {
       points.push_back({row[configuration], row[method]});
-      sums.emplace_back();
+      figures.emplace_back();
     }
-    ChartPoint& point = points[found->second];
-    Sums& sum = sums[found->second];
-    ++point.rows;
-    const double figures[4] = {Parse(row[frame]), Parse(row[precompute]), Parse(row[psnr]), Parse(row[perceptual])};
+    ++points[found->second].rows;
+    const double values[4] = {Parse(row[frame]), Parse(row[precompute]), Parse(row[psnr]), Parse(row[perceptual])};
     for (int i = 0; i < 4; ++i) {
-      if (!std::isfinite(figures[i])) continue;
-      sum.value[i] += figures[i];
-      ++sum.count[i];
+      if (std::isfinite(values[i])) figures[found->second][i].push_back(values[i]);
     }
   }
   for (size_t i = 0; i < points.size(); ++i) {
-    const auto mean = [&](int k) { return sums[i].count[k] > 0 ? sums[i].value[k] / sums[i].count[k] : NAN; };
-    points[i].frame_ms = mean(0);
-    points[i].precompute_seconds = mean(1);
-    points[i].psnr_db = mean(2);
-    points[i].perceptual_error = mean(3);
+    points[i].frame_ms = Median(figures[i][0]);
+    points[i].precompute_seconds = Median(figures[i][1]);
+    points[i].psnr_db = Median(figures[i][2]);
+    points[i].perceptual_error = Median(figures[i][3]);
   }
   return points;
 }
@@ -101,10 +102,10 @@ struct Metric {
   bool higher_is_better;
 };
 
-const Axis kAxes[] = {{"frame_time", "frame time", "frame time (ms, CPU wall, log scale)", &ChartPoint::frame_ms, false},
+const Axis kAxes[] = {{"frame_time", "frame time", "frame time (ms, CPU wall, median over scenes, log scale)", &ChartPoint::frame_ms, false},
                       {"precompute_time", "precompute time", "precompute time (s, log scale)", &ChartPoint::precompute_seconds, true}};
-const Metric kMetrics[] = {{"psnr", "PSNR against the ground truth (dB)", &ChartPoint::psnr_db, true},
-                           {"perceptual", "perceptual error 1 - SSIM", &ChartPoint::perceptual_error, false}};
+const Metric kMetrics[] = {{"psnr", "PSNR against the ground truth (dB, median over scenes)", &ChartPoint::psnr_db, true},
+                           {"perceptual", "perceptual error 1 - SSIM (median over scenes)", &ChartPoint::perceptual_error, false}};
 
 std::string GnuplotString(const std::string& text) {
   std::string quoted = "\"";
