@@ -57,11 +57,11 @@ double Median(std::vector<double> values) {
 }
 
 // The median of each figure per configuration over the rows whose scene matches
-// `glob`, in order of first appearance. The median, not the mean: a setting that
+// one of `globs` (all rows when empty), in order of first appearance. The median, not the mean: a setting that
 // blows up on one scene (a fit extrapolating to 10^20) would otherwise move its
 // point off the chart; such rows are counted in `rows` and listed by the sweep's
 // CSV. Non-finite figures are left out.
-std::vector<ChartPoint> Aggregate(const CsvTable& table, const std::string& glob) {
+std::vector<ChartPoint> Aggregate(const CsvTable& table, const std::vector<std::string>& globs) {
   const size_t configuration = table.Column("configuration"), scene = table.Column("scene"),
                method = table.Column("method"), frame = table.Column("frame_ms"),
                precompute = table.Column("precompute_seconds"), psnr = table.Column("psnr_db"),
@@ -70,7 +70,10 @@ std::vector<ChartPoint> Aggregate(const CsvTable& table, const std::string& glob
   std::map<std::string, size_t> index;
   std::vector<std::array<std::vector<double>, 4>> figures;
   for (const auto& row : table.rows) {
-    if (!glob.empty() && fnmatch(glob.c_str(), row[scene].c_str(), 0) != 0) continue;
+    const bool wanted = globs.empty() || std::any_of(globs.begin(), globs.end(), [&](const std::string& glob) {
+                          return fnmatch(glob.c_str(), row[scene].c_str(), 0) == 0;
+                        });
+    if (!wanted) continue;
     auto [found, added] = index.emplace(row[configuration], points.size());
     if (added) {
       points.push_back({row[configuration], row[method]});
@@ -144,7 +147,8 @@ void RunGnuplot(const std::string& gnuplot, const std::filesystem::path& script)
 
 LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string csv, out, scenes, title;
+    std::string csv, out, title;
+    std::vector<std::string> scenes;
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
@@ -152,7 +156,7 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
                "Pareto front marked; needs gnuplot)");
   command->add_option("csv", options->csv, "Sweep results (loom-lab sweep)")->required();
   command->add_option("--out,-o", options->out, "Output directory")->required();
-  command->add_option("--scenes", options->scenes, "Only rows whose scene matches this glob");
+  command->add_option("--scenes", options->scenes, "Only rows whose scene matches one of these globs");
   command->add_option("--title", options->title, "Chart title (default: the CSV's name)");
   return {command, [&flags, options] {
             const std::string gnuplot = FindOnPath("gnuplot");

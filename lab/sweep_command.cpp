@@ -20,6 +20,7 @@
 
 #include "core/image/image.h"
 #include "core/metrics/image_metrics.h"
+#include "core/plan/screen_footprint.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
@@ -38,6 +39,7 @@ namespace {
 
 const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "fabric", "view", "distance", "tile_pixels",
+    "footprint_pixels",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
     "supersampling", "level_mode", "msaa_samples", "reference_samples",
     "precompute_seconds", "asset_bytes", "frame_ms", "gpu_ms",
@@ -87,6 +89,15 @@ struct Frames {
   std::vector<Image> images;  // images[k]: the camera panned by k · shift
   std::vector<double> cpu_ms, gpu_ms;
 };
+
+// The largest on-screen tile as the planner measures it (core/plan/screen_footprint.h):
+// the figure its footprint classes are distilled by.
+double FootprintPixels(const v1::SceneSpec& scene) {
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  double largest = 0.0;
+  for (const SceneMesh& mesh : meshes) largest = std::max(largest, MeasureTileFootprint(scene, mesh).largest_pixels);
+  return largest;
+}
 
 // Frame times are the best of the flicker frames: the first pays for warm-up
 // (shader variants, texture upload) and a loaded machine only ever adds time.
@@ -243,7 +254,7 @@ class Sweep {
     const v1::RenderSettings& render = configured.render();
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
     results_.Append({configuration.name, scene.name, svbrdf ? "svbrdf" : "reference", scene.fabric, scene.view,
-                     scene.distance, Number(scene.tile_pixels),
+                     scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
                      when_svbrdf(std::to_string(precompute.spatial_resolution())),
                      when_svbrdf(std::to_string(precompute.view_directions())),
                      when_svbrdf(std::to_string(precompute.light_directions())),

@@ -10,25 +10,19 @@ namespace loom::lab {
 namespace {
 
 struct Measured {
-  std::string distance;
+  double footprint = NAN;
   double psnr = NAN, precompute = NAN, bytes = NAN;
   std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
 
-FootprintClass ClassOf(const std::string& distance) {
-  if (distance == "near") return FootprintClass::kNear;
-  if (distance == "far") return FootprintClass::kFar;
-  return FootprintClass::kMid;
-}
-
 }  // namespace
 
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
   const auto column = [&](const char* name) { return table.Column(name); };
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
-               distance = column("distance"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
+               footprint = column("footprint_pixels"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
@@ -39,7 +33,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   for (const auto& row : table.rows) {
     if (row[method] != "svbrdf") continue;
     if (!rows.contains(row[configuration])) order.push_back(row[configuration]);
-    rows[row[configuration]][row[scene]] = {row[distance],    ToNumber(row[psnr]), ToNumber(row[precompute]),
+    rows[row[configuration]][row[scene]] = {ToNumber(row[footprint]),    ToNumber(row[psnr]), ToNumber(row[precompute]),
                                             ToNumber(row[bytes]), row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
                                             row[supersampling], row[level],         row[msaa]};
@@ -79,7 +73,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       if (m.lookup_table != b.lookup_table) v.lookup_table = m.lookup_table == "1" ? 1 : 0, ++axes;
       if (m.supersampling != b.supersampling) {
         v.supersampling = std::stoul(m.supersampling);
-        if (v.spatial_resolution == 0) ++axes;  // alone it is not a setting the planner varies
+        if (v.spatial_resolution == 0) axes += 2;  // alone it is not a setting the planner varies
       }
       const bool same_as_before = by_class.empty() ||
                                   (v.spatial_resolution == variation.spatial_resolution &&
@@ -96,7 +90,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       variation.lookup_table = v.lookup_table;
       variation.supersampling = v.supersampling;
       if (!std::isfinite(m.psnr) || !std::isfinite(b.psnr)) continue;
-      Sums& sums = by_class[ClassOf(b.distance)];
+      Sums& sums = by_class[ClassifyFootprint(b.footprint)];
       sums.psnr_change += m.psnr - b.psnr;
       sums.precompute += m.precompute;
       sums.base_precompute += b.precompute;

@@ -9,7 +9,7 @@
 //     "scenes": ["stockinette.flat0.*", ...],      // name globs; absent = every scene
 //     "ground_truth_samples": 256,                 // reference spp of the ground truth
 //     "flicker_frames": 3,                         // frames of the flicker camera move
-//     "flicker_shift_pixels": 0.333,               // camera move between them
+//     "flicker_shift_pixels": 0.55,                // camera pan between them (pixels)
 //     "precompute": {PrecomputeSettings},          // base of every svbrdf configuration
 //     "render": {RenderSettings},                  // base of every configuration
 //     "configurations": [
@@ -53,7 +53,7 @@ struct SweepGrid {
   std::vector<SweepConfiguration> configurations;
   uint32_t ground_truth_samples = 256;
   int flicker_frames = 3;
-  double flicker_shift_pixels = 1.0 / 3.0;
+  double flicker_shift_pixels = 0.55;
 
   bool Applies(const SweepConfiguration& configuration, const BenchScene& scene) const;
 };

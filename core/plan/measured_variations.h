@@ -15,8 +15,9 @@
 
 namespace loom {
 
-// The footprint classes of the bench scenes (a tile spans ≥ 64, ≈ 16, ≤ 2 pixels)
-// and where the planner puts the boundaries between them: the geometric means.
+// Footprint classes by the largest on-screen tile (core/plan/screen_footprint.h),
+// for scenes and sweep rows alike; the boundaries lie at the geometric means of the
+// bench distances (a tile spans 64, 16 and 2 pixels across).
 enum class FootprintClass { kNear, kMid, kFar };
 inline constexpr double kNearFromTilePixels = 32.0;
 inline constexpr double kMidFromTilePixels = 5.66;

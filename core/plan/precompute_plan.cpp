@@ -65,7 +65,11 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
   std::vector<const MeasuredVariation*> candidates;
   for (const MeasuredVariation& v : variations) {
     if (v.footprint != plan.footprint_class) continue;
-    if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) continue;
+    if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) {
+      plan.reasons.push_back(Format("not %s: %u texels a side are fewer than the footprint can show",
+                                    v.configuration.c_str(), v.spatial_resolution));
+      continue;
+    }
     if (!(v.precompute_ratio < 1.0)) continue;  // saves nothing
     candidates.push_back(&v);
   }
@@ -97,21 +101,6 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
 }
 
 }  // namespace
-
-FootprintClass ClassifyFootprint(double tile_pixels) {
-  if (tile_pixels >= kNearFromTilePixels) return FootprintClass::kNear;
-  if (tile_pixels >= kMidFromTilePixels) return FootprintClass::kMid;
-  return FootprintClass::kFar;
-}
-
-const char* FootprintClassName(FootprintClass footprint) {
-  switch (footprint) {
-    case FootprintClass::kNear: return "near";
-    case FootprintClass::kMid: return "mid";
-    case FootprintClass::kFar: return "far";
-  }
-  return "?";
-}
 
 ScenePlan PlanScene(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, double error_budget_db,
                     const std::vector<MeasuredVariation>& variations) {
