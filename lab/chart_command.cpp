@@ -222,6 +222,8 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
               for (const Metric& metric : kMetrics) {
                 const int y_column = metric.name == "psnr" ? 5 : 6;
                 s += "set xlabel " + GnuplotString(axis.label) + "\nset ylabel " + GnuplotString(metric.label) + "\n";
+                // The corner away from the front: cheap and inaccurate is where no point lies.
+                s += metric.higher_is_better ? "set key top left\n" : "set key bottom left\n";
                 s += "plot ";
                 for (size_t m = 0; m < methods.size(); ++m) {
                   if (axis.svbrdf_only && methods[m] != "svbrdf") continue;
@@ -237,7 +239,7 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
               return s + "unset multiplot\n";
             };
             script = "cd " + GnuplotString(std::filesystem::absolute(out).string()) +
-                     "\nset datafile missing 'nan'\nset logscale x\nset grid\nset key bottom right\n";
+                     "\nset datafile missing 'nan'\nset logscale x\nset grid\n";
             for (size_t a = 0; a < std::size(kAxes); ++a) {
               const int column = a == 0 ? 3 : 4;
               const std::string stem = "error_vs_" + kAxes[a].name;
