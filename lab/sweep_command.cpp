@@ -122,7 +122,7 @@ class Sweep {
     size_t pending = 0;
     for (const auto& configuration : grid_.configurations) {
       for (const auto& scene : grid_.scenes) {
-        if (grid_.Applies(configuration, scene) && !results_.Contains(configuration.name, scene.name)) ++pending;
+        if (Pending(configuration, scene)) ++pending;
       }
     }
     std::fprintf(stderr, "sweep %s: %zu rows to measure, %zu already in %s\n", grid_.name.c_str(), pending,
