@@ -35,6 +35,9 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddSweepCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags);
 
 // Shared by the GL subcommands: --software, and the context it asks for.
 struct GlFlags {

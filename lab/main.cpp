@@ -28,6 +28,9 @@ int Main(int argc, char** argv) {
       AddPrecomputeCommand(app, flags),
       AddRenderCommand(app, flags),
       AddCompareCommand(app, flags),
+      AddSweepCommand(app, flags),
+      AddChartCommand(app, flags),
+      AddPlanCommand(app, flags),
   };
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
   RequireSubcommand(app);

@@ -5,31 +5,17 @@
 #include <cstdio>
 #include <map>
 
-#include "core/fit/fabric_asset.h"
-#include "core/precompute/fabric_precompute.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
-#include "core/util/progress_bar.h"
 #include "core/util/stopwatch.h"
+#include "lab/fabric_cache.h"
 #include "lab/lab_command.h"
 
 namespace loom::lab {
 namespace {
-
-// The fitted fabric `fabric`: read from `cache`/KEY when a previous run stored it
-// there, else precomputed (and stored when a cache directory is given).
-FittedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::path& cache) {
-  const std::filesystem::path directory = cache.empty() ? std::filesystem::path() : cache / fabric.key;
-  if (!directory.empty() && std::filesystem::exists(directory / "manifest.json")) return ReadFabricAsset(directory);
-  ProgressBar bar("precompute " + fabric.key.substr(0, 8));
-  FittedFabric fit = PrecomputeFabric(fabric.fabric, fabric.settings,
-                                      [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
-  if (!directory.empty()) WriteFabricAsset(fit, fabric.settings, fabric.key, directory);
-  return fit;
-}
 
 // Renders with svbrdf, fitting each distinct fabric in this process first (or
 // loading it from `cache`); adds its figures to `figures`.
@@ -39,7 +25,7 @@ Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& mes
   std::map<std::string, FittedFabric> fitted;
   FittedFabrics fits;
   for (const SceneFabric& fabric : SceneFabrics(scene)) {
-    fits[fabric.key] = &fitted.emplace(fabric.key, LoadOrPrecompute(fabric, cache)).first->second;
+    fits[fabric.key] = &fitted.emplace(fabric.key, LoadOrPrecompute(fabric, cache).fit).first->second;
   }
   figures["fabrics"] = fits.size();
   figures["precompute_seconds"] = stopwatch.Seconds();  // loading, where the cache had them

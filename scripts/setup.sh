@@ -22,6 +22,7 @@ PACKAGES=(
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev libtinyobjloader-dev
   nlohmann-json3-dev libssl-dev
   libyaml-cpp-dev
+  gnuplot-nox
 )
 
 missing=()

@@ -1,0 +1,167 @@
+#include "core/plan/precompute_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "core/spec/defaults.h"
+#include "core/spec/fabric_key.h"
+#include "core/util/error.h"
+
+namespace loom {
+namespace {
+
+std::string Format(const char* format, auto... values) {
+  char text[512];
+  std::snprintf(text, sizeof text, format, values...);
+  return text;
+}
+
+uint32_t NextPowerOfTwo(double value) {
+  uint32_t power = 1;
+  while (power < value && power < (1u << 30)) power *= 2;
+  return power;
+}
+
+// Which of the settings a variation changes: the planner takes at most one per setting.
+std::string Axis(const MeasuredVariation& v) {
+  if (v.spatial_resolution != 0) return "spatial_resolution";
+  if (v.directions != 0) return "directions";
+  if (v.lobes != 0) return "lobes";
+  if (v.lookup_table >= 0) return "lookup_table";
+  return "other";
+}
+
+void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
+  if (v.spatial_resolution != 0) settings.set_spatial_resolution(v.spatial_resolution);
+  if (v.supersampling != 0) settings.set_supersampling(v.supersampling);
+  if (v.directions != 0) {
+    settings.set_view_directions(v.directions);
+    settings.set_light_directions(v.directions);
+  }
+  if (v.lobes != 0) settings.set_lobes(v.lobes);
+  if (v.lookup_table >= 0) settings.set_lookup_table(v.lookup_table == 1);
+}
+
+void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>& variations) {
+  const v1::PrecomputeSettings defaults = WithDefaults(v1::PrecomputeSettings());
+  plan.settings = defaults;
+  if (plan.footprint.visible_triangles == 0) {
+    // Nothing of it is on screen: the smallest settings the table knows serve.
+    plan.footprint_resolution = kMinPlannedResolution;
+    plan.footprint_class = FootprintClass::kFar;
+    plan.reasons.push_back("no triangle of it is visible: planned as far");
+  } else {
+    plan.footprint_class = ClassifyFootprint(plan.footprint.largest_pixels);
+    plan.footprint_resolution = std::clamp(NextPowerOfTwo(std::ceil(plan.footprint.largest_pixels - 1e-6)),
+                                           kMinPlannedResolution, defaults.spatial_resolution());
+    plan.reasons.push_back(Format(
+        "a tile spans at most %.1f px on screen (%d visible triangles): %s; no more than %u texels a side can show",
+        plan.footprint.largest_pixels, plan.footprint.visible_triangles, FootprintClassName(plan.footprint_class),
+        plan.footprint_resolution));
+  }
+
+  std::vector<const MeasuredVariation*> candidates;
+  for (const MeasuredVariation& v : variations) {
+    if (v.footprint != plan.footprint_class) continue;
+    if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) {
+      plan.reasons.push_back(Format("not %s: %u texels a side are fewer than the footprint can show",
+                                    v.configuration.c_str(), v.spatial_resolution));
+      continue;
+    }
+    if (!(v.precompute_ratio < 1.0)) continue;  // saves nothing
+    candidates.push_back(&v);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [](const auto* a, const auto* b) {
+    return a->precompute_ratio < b->precompute_ratio;
+  });
+  std::map<std::string, bool> taken;
+  for (const MeasuredVariation* v : candidates) {
+    const std::string axis = Axis(*v);
+    if (taken[axis]) continue;
+    const double loss = std::max(0.0, -v->psnr_change_db);
+    if (plan.predicted_psnr_loss_db + loss > budget + 1e-9) {
+      plan.reasons.push_back(Format("not %s: measured %+.2f dB (%s, %d scenes) would exceed the %.2f dB budget",
+                                    v->configuration.c_str(), v->psnr_change_db,
+                                    FootprintClassName(v->footprint), v->scenes, budget));
+      continue;
+    }
+    taken[axis] = true;
+    Apply(*v, plan.settings);
+    plan.chosen.push_back(v->configuration);
+    plan.predicted_psnr_loss_db += loss;
+    plan.predicted_precompute_ratio *= v->precompute_ratio;
+    plan.predicted_bytes_ratio *= v->bytes_ratio;
+    plan.reasons.push_back(Format("%s: measured %+.2f dB, precompute x%.3f, bytes x%.3f (%s, %d scenes)",
+                                  v->configuration.c_str(), v->psnr_change_db, v->precompute_ratio, v->bytes_ratio,
+                                  FootprintClassName(v->footprint), v->scenes));
+  }
+  if (plan.chosen.empty()) plan.reasons.push_back("no measured variation fits the budget: the defaults");
+}
+
+}  // namespace
+
+ScenePlan PlanScene(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, double error_budget_db,
+                    const std::vector<MeasuredVariation>& variations) {
+  if (!std::isfinite(error_budget_db) || error_budget_db < 0.0) {
+    throw Error(ErrorCode::kInvalidArgument,
+                Format("error budget: %g dB is not a finite number >= 0 (the PSNR the plan may lose)", error_budget_db));
+  }
+  ScenePlan plan;
+  plan.error_budget_db = error_budget_db;
+  // One plan per distinct fabric; objects with explicit settings are grouped by
+  // their cache key and kept as they are.
+  std::map<std::string, size_t> by_group;
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const v1::SceneObject& object = *meshes[i].object;
+    if (!object.has_fabric()) continue;
+    const v1::FabricBinding& binding = object.fabric();
+    const bool explicit_settings = binding.has_precompute();
+    const std::string group = (explicit_settings ? "explicit:" : "planned:") +
+                              FabricKey(binding.fabric(), explicit_settings ? binding.precompute()
+                                                                            : v1::PrecomputeSettings());
+    auto [found, added] = by_group.emplace(group, plan.fabrics.size());
+    if (added) {
+      FabricPlan fabric;
+      fabric.fabric = binding.fabric();
+      fabric.explicit_settings = explicit_settings;
+      fabric.settings = WithDefaults(binding.precompute());
+      plan.fabrics.push_back(std::move(fabric));
+    }
+    FabricPlan& fabric = plan.fabrics[found->second];
+    fabric.objects.push_back(object.name().empty() ? "#" + std::to_string(i) : object.name());
+    const TileFootprint footprint = MeasureTileFootprint(scene, meshes[i]);
+    if (footprint.visible_triangles > 0) {
+      fabric.footprint.largest_pixels = std::max(fabric.footprint.largest_pixels, footprint.largest_pixels);
+      fabric.footprint.smallest_pixels = fabric.footprint.visible_triangles == 0
+                                             ? footprint.smallest_pixels
+                                             : std::min(fabric.footprint.smallest_pixels, footprint.smallest_pixels);
+      fabric.footprint.visible_triangles += footprint.visible_triangles;
+    }
+  }
+  for (FabricPlan& fabric : plan.fabrics) {
+    if (fabric.explicit_settings) {
+      fabric.reasons.push_back("the scene gives its precompute settings: kept");
+    } else {
+      Plan(fabric, error_budget_db, variations);
+    }
+    fabric.key = FabricKey(fabric.fabric, fabric.settings);
+  }
+  return plan;
+}
+
+v1::SceneSpec ApplyPlan(v1::SceneSpec scene, const ScenePlan& plan) {
+  for (v1::SceneObject& object : *scene.mutable_objects()) {
+    if (!object.has_fabric() || object.fabric().has_precompute()) continue;
+    const std::string key = FabricKey(object.fabric().fabric(), v1::PrecomputeSettings());
+    for (const FabricPlan& fabric : plan.fabrics) {
+      if (!fabric.explicit_settings && FabricKey(fabric.fabric, v1::PrecomputeSettings()) == key) {
+        *object.mutable_fabric()->mutable_precompute() = fabric.settings;
+      }
+    }
+  }
+  return scene;
+}
+
+}  // namespace loom

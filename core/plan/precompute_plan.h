@@ -1,0 +1,65 @@
+#pragma once
+// "Model no more than a scene needs" (issue 7, DESIGN.md "Measurement protocol"):
+// from a scene, the least precompute that serves each of its fabrics, and why.
+//
+// For each distinct fabric without explicit settings:
+// 1. Footprint. The largest on-screen tile over its objects
+//    (core/plan/screen_footprint.h) bounds the texels that can ever show: the
+//    finest useful resolution is the smallest power of two ≥ that many pixels
+//    (at least 4, at most the default). It also picks the footprint class whose
+//    measurements apply.
+// 2. Measurements. Each measured variation of the class (resolution — never below
+//    the footprint's bound —, directions, lobes, LUT) is a candidate; the planner
+//    takes them greedily by measured precompute saving, at most one per setting,
+//    while the summed measured PSNR losses stay within the error budget. Gains
+//    count as no loss (measurements are means with noise; they do not pay for
+//    other losses).
+// The error budget is the PSNR, in dB against the ground truth, the plan may lose
+// against the default settings: svbrdf's absolute accuracy is the fitted model's
+// (docs/accuracy.md), so the budget says how much of it one trades for speed.
+
+#include <string>
+#include <vector>
+
+#include "core/plan/measured_variations.h"
+#include "core/plan/screen_footprint.h"
+#include "core/scene/scene_geometry.h"
+#include "loom/v1/precompute.pb.h"
+#include "loom/v1/scene.pb.h"
+
+namespace loom {
+
+inline constexpr double kDefaultErrorBudgetDb = 0.5;
+inline constexpr uint32_t kMinPlannedResolution = 4;
+
+struct FabricPlan {
+  std::string key;                   // FabricKey of the planned settings
+  std::vector<std::string> objects;  // names (or "#index") of the objects using it
+  v1::FabricSpec fabric;
+  v1::PrecomputeSettings settings;   // defaults applied
+  bool explicit_settings = false;    // the scene gave settings: kept as they are
+  TileFootprint footprint;
+  FootprintClass footprint_class = FootprintClass::kMid;
+  uint32_t footprint_resolution = 0;      // the finest resolution the footprint can show
+  std::vector<std::string> chosen;        // the measured variations taken
+  double predicted_psnr_loss_db = 0.0;    // summed losses of `chosen`
+  double predicted_precompute_ratio = 1.0;  // product of their ratios
+  double predicted_bytes_ratio = 1.0;
+  std::vector<std::string> reasons;       // one line per decision, for people
+};
+
+struct ScenePlan {
+  double error_budget_db = kDefaultErrorBudgetDb;
+  std::vector<FabricPlan> fabrics;
+};
+
+// `scene` with defaults applied and validated, `meshes` = BuildSceneGeometry(scene),
+// `variations` usually StandardSweepVariations(). Error(kInvalidArgument) if the
+// budget is negative or not finite.
+ScenePlan PlanScene(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, double error_budget_db,
+                    const std::vector<MeasuredVariation>& variations);
+
+// `scene` with each planned fabric's settings set on its objects.
+v1::SceneSpec ApplyPlan(v1::SceneSpec scene, const ScenePlan& plan);
+
+}  // namespace loom

@@ -1,0 +1,143 @@
+#include "lab/bench_scenes.h"
+
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom::lab {
+namespace {
+
+using nlohmann::json;
+
+// The camera stands this far from the origin: beyond the nearest point of the
+// longest (80°) patch, so nothing of it falls behind the near plane.
+constexpr float kCameraDistance = 10.0f;
+// The flat patch overfills the view by this factor so no edge shows.
+constexpr double kOverfill = 1.1;
+
+[[noreturn]] void Fail(const std::filesystem::path& file, const std::string& field, const std::string& problem) {
+  throw Error(ErrorCode::kInvalidArgument, file.string() + ": " + field + ": " + problem);
+}
+
+const json& Field(const json& object, const std::string& name, const std::filesystem::path& file,
+                  const std::string& path) {
+  if (!object.is_object() || !object.contains(name)) Fail(file, path + name, "missing");
+  return object.at(name);
+}
+
+v1::Vec3 Vec(double x, double y, double z) {
+  v1::Vec3 v;
+  v.set_x(static_cast<float>(x));
+  v.set_y(static_cast<float>(y));
+  v.set_z(static_cast<float>(z));
+  return v;
+}
+
+// A cloth object covering `shape` scaled by `scale`, tiled `repeat_u` × `repeat_v`.
+v1::SceneObject Cloth(const v1::FabricSpec& fabric, v1::BuiltinShape shape, const v1::Vec3& scale,
+                      double repeat_u, double repeat_v) {
+  v1::SceneObject object;
+  object.set_name("cloth");
+  object.mutable_mesh()->set_builtin(shape);
+  *object.mutable_transform()->mutable_scale() = scale;
+  *object.mutable_fabric()->mutable_fabric() = fabric;
+  object.mutable_fabric()->set_repeat_u(static_cast<float>(repeat_u));
+  object.mutable_fabric()->set_repeat_v(static_cast<float>(repeat_v));
+  return object;
+}
+
+v1::Camera OrthographicCamera(const v1::Vec3& position, const v1::Vec3& up) {
+  v1::Camera camera;
+  camera.set_projection(v1::PROJECTION_ORTHOGRAPHIC);
+  camera.set_ortho_height(static_cast<float>(kViewHeight));
+  *camera.mutable_position() = position;
+  *camera.mutable_target() = Vec(0, 0, 0);
+  *camera.mutable_up() = up;
+  return camera;
+}
+
+}  // namespace
+
+std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
+  json set;
+  try {
+    set = json::parse(ReadFile(set_file));
+  } catch (const json::parse_error& e) {
+    Fail(set_file, "(file)", std::string("not JSON: ") + e.what());
+  }
+  const std::filesystem::path directory = set_file.parent_path();
+  const json& frame = Field(set, "frame", set_file, "");
+  const int width = Field(frame, "width", set_file, "frame.").get<int>();
+  const int height = Field(frame, "height", set_file, "frame.").get<int>();
+  if (width < 1 || height < 1) Fail(set_file, "frame", "width and height must be positive");
+
+  v1::SceneSpec base = ParseSpecJson<v1::SceneSpec>(Field(set, "template", set_file, "").dump(), "template");
+  base.mutable_render()->set_width(width);
+  base.mutable_render()->set_height(height);
+
+  std::map<std::string, double> distances;
+  std::vector<std::string> distance_order;
+  for (const json& distance : Field(set, "distances", set_file, "")) {
+    const std::string name = Field(distance, "name", set_file, "distances[].").get<std::string>();
+    const double pixels = Field(distance, "tile_pixels", set_file, "distances[].").get<double>();
+    if (!(pixels > 0.0)) Fail(set_file, "distances[" + name + "].tile_pixels", "must be > 0");
+    distances[name] = pixels;
+    distance_order.push_back(name);
+  }
+  const double world_per_pixel = kViewHeight / height;
+  const double aspect = static_cast<double>(width) / height;
+
+  std::vector<BenchScene> scenes;
+  for (const json& entry : Field(set, "fabrics", set_file, "")) {
+    const std::string fabric_name = Field(entry, "name", set_file, "fabrics[].").get<std::string>();
+    const auto fabric = LoadSpecFile<v1::FabricSpec>(
+        directory / Field(entry, "file", set_file, "fabrics[].").get<std::string>(), "fabric");
+    const auto add = [&](const std::string& view, const std::string& distance, v1::SceneObject object,
+                         v1::Camera camera) {
+      BenchScene bench{fabric_name + "." + view + "." + distance, fabric_name, view, distance, distances.at(distance),
+                       base};
+      bench.scene.set_name(bench.name);
+      *bench.scene.add_objects() = std::move(object);
+      *bench.scene.mutable_camera() = std::move(camera);
+      scenes.push_back(std::move(bench));
+    };
+    for (const json& tilt_json : Field(set, "tilts_degrees", set_file, "")) {
+      const double tilt = tilt_json.get<double>();
+      if (!(tilt >= 0.0 && tilt <= 85.0)) Fail(set_file, "tilts_degrees", "each tilt must lie in [0, 85]");
+      const double radians = tilt * std::numbers::pi / 180.0;
+      const double extent_u = kOverfill * kViewHeight * aspect;
+      const double extent_v = kOverfill * kViewHeight / std::cos(radians);
+      for (const std::string& distance : distance_order) {
+        const double tile_world = distances.at(distance) * world_per_pixel;
+        add("flat" + std::to_string(static_cast<int>(std::lround(tilt))), distance,
+            Cloth(fabric, v1::BUILTIN_SHAPE_PLANE, Vec(extent_u, extent_v, 1), extent_u / tile_world,
+                  extent_v / tile_world),
+            OrthographicCamera(Vec(0, -kCameraDistance * std::sin(radians), kCameraDistance * std::cos(radians)),
+                               Vec(0, 1, 0)));
+      }
+    }
+    for (const json& curved : set.value("curved", json::array())) {
+      const std::string shape_name = Field(curved, "shape", set_file, "curved[].").get<std::string>();
+      const std::string distance = Field(curved, "distance", set_file, "curved[].").get<std::string>();
+      if (!distances.contains(distance)) Fail(set_file, "curved[].distance", "no distance named " + distance);
+      if (shape_name != "BUILTIN_SHAPE_SPHERE") {
+        Fail(set_file, "curved[].shape", "only BUILTIN_SHAPE_SPHERE is laid out so far");
+      }
+      // u runs once around the equator (2πr), v from pole to pole (πr).
+      const double tile_world = distances.at(distance) * world_per_pixel;
+      const double r = kCurvedRadius;
+      add("sphere", distance,
+          Cloth(fabric, v1::BUILTIN_SHAPE_SPHERE, Vec(r, r, r), 2.0 * std::numbers::pi * r / tile_world,
+                std::numbers::pi * r / tile_world),
+          OrthographicCamera(Vec(0, -kCameraDistance, 0), Vec(0, 0, 1)));
+    }
+  }
+  return scenes;
+}
+
+}  // namespace loom::lab

@@ -1,0 +1,27 @@
+#pragma once
+// A directory of fitted fabric assets by cache key, shared by `loom-lab render
+// --fabric-cache` and `loom-lab sweep`: a fabric found there is read, one that is
+// not is precomputed and stored, so each distinct (fabric, settings) is fitted once
+// across runs. Next to each asset the cache keeps what the precompute cost
+// (`precompute.json`), so a later run still reports it.
+
+#include <cstdint>
+#include <filesystem>
+
+#include "core/fit/fabric_fit.h"
+#include "core/render/scene_render.h"
+
+namespace loom::lab {
+
+struct CachedFabric {
+  FittedFabric fit;
+  double precompute_seconds = 0.0;  // geometry + acquisition + fit, when it was computed
+  uint64_t asset_bytes = 0;         // the asset's files on disk; 0 when not stored
+  bool loaded = false;              // read from the cache rather than computed now
+};
+
+// `cache` empty: always precompute, store nothing. Shows a progress bar while it
+// precomputes.
+CachedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::path& cache);
+
+}  // namespace loom::lab

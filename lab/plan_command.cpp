@@ -1,0 +1,102 @@
+// loom-lab plan: the least precompute that serves a scene (core/plan/precompute_plan.h),
+// and what it chose and why. `--distill CSV` turns a sweep CSV into the table the
+// planner is compiled with (core/plan/standard_sweep_table.inc).
+
+#include <cstdio>
+
+#include "core/plan/precompute_plan.h"
+#include "core/spec/defaults.h"
+#include "core/spec/spec_json.h"
+#include "core/spec/validate.h"
+#include "core/util/error.h"
+#include "lab/csv_table.h"
+#include "lab/lab_command.h"
+#include "lab/sweep_distill.h"
+
+namespace loom::lab {
+namespace {
+
+nlohmann::json SettingsJson(const v1::PrecomputeSettings& settings) {
+  return nlohmann::json::parse(SpecToJson(settings, false));
+}
+
+nlohmann::json PlanJson(const ScenePlan& plan) {
+  nlohmann::json fabrics = nlohmann::json::array();
+  for (const FabricPlan& fabric : plan.fabrics) {
+    fabrics.push_back({{"key", fabric.key},
+                       {"objects", fabric.objects},
+                       {"explicit_settings", fabric.explicit_settings},
+                       {"tile_pixels_largest", fabric.footprint.largest_pixels},
+                       {"tile_pixels_smallest", fabric.footprint.smallest_pixels},
+                       {"visible_triangles", fabric.footprint.visible_triangles},
+                       {"footprint_class", FootprintClassName(fabric.footprint_class)},
+                       {"footprint_resolution", fabric.footprint_resolution},
+                       {"chosen", fabric.chosen},
+                       {"settings", SettingsJson(fabric.settings)},
+                       {"predicted_psnr_loss_db", fabric.predicted_psnr_loss_db},
+                       {"predicted_precompute_ratio", fabric.predicted_precompute_ratio},
+                       {"predicted_bytes_ratio", fabric.predicted_bytes_ratio},
+                       {"reasons", fabric.reasons}});
+  }
+  return {{"error_budget_db", plan.error_budget_db}, {"fabrics", fabrics}};
+}
+
+void PrintPlan(const ScenePlan& plan) {
+  std::printf("error budget: %.2f dB of PSNR against the default settings\n", plan.error_budget_db);
+  for (const FabricPlan& fabric : plan.fabrics) {
+    std::string objects;
+    for (const std::string& object : fabric.objects) objects += (objects.empty() ? "" : ", ") + object;
+    std::printf("\nfabric %s (objects: %s)\n", fabric.key.substr(0, 12).c_str(), objects.c_str());
+    const v1::PrecomputeSettings& s = fabric.settings;
+    std::printf("  settings: %u texels a side, %u views x %u lights, %u lobes, LUT %s, supersampling %u\n",
+                s.spatial_resolution(), s.view_directions(), s.light_directions(), s.lobes(),
+                s.lookup_table() ? "on" : "off", s.supersampling());
+    if (!fabric.explicit_settings) {
+      std::printf("  predicted against the defaults: PSNR -%.2f dB, precompute x%.3f, bytes x%.3f\n",
+                  fabric.predicted_psnr_loss_db, fabric.predicted_precompute_ratio, fabric.predicted_bytes_ratio);
+    }
+    std::printf("  why:\n");
+    for (const std::string& reason : fabric.reasons) std::printf("    - %s\n", reason.c_str());
+  }
+}
+
+}  // namespace
+
+LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string scene, sweep, distill;
+    double budget = kDefaultErrorBudgetDb;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "plan", "The least precompute that serves a scene's fabrics within an error budget, and why");
+  command->add_option("scene", options->scene, "Scene spec file (JSON)");
+  command->add_option("--error-budget", options->budget,
+                      "PSNR (dB) the plan may lose against the default settings (default 0.5)");
+  command->add_option("--sweep", options->sweep,
+                      "Plan from this sweep CSV instead of the measurements compiled in");
+  command->add_option("--distill", options->distill,
+                      "Print a sweep CSV's measured variations as the compiled-in table (C++), plan nothing");
+  return {command, [&flags, options] {
+            if (!options->distill.empty()) {
+              std::fputs(VariationsAsCpp(DistillSweep(ReadCsv(options->distill))).c_str(), stdout);
+              return 0;
+            }
+            if (options->scene.empty()) throw Error(ErrorCode::kInvalidArgument, "scene: a scene file is required");
+            v1::SceneSpec scene = WithDefaults(LoadSpecFile<v1::SceneSpec>(options->scene, "scene"));
+            ValidateOrThrow(scene);
+            const auto meshes =
+                BuildSceneGeometry(scene, FileMeshResolver(std::filesystem::path(options->scene).parent_path()));
+            const std::vector<MeasuredVariation> variations =
+                options->sweep.empty() ? StandardSweepVariations() : DistillSweep(ReadCsv(options->sweep));
+            const ScenePlan plan = PlanScene(scene, meshes, options->budget, variations);
+            if (flags.json) {
+              PrintJson(PlanJson(plan));
+            } else {
+              PrintPlan(plan);
+            }
+            return 0;
+          }};
+}
+
+}  // namespace loom::lab

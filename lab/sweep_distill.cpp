@@ -1,0 +1,130 @@
+#include "lab/sweep_distill.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "core/util/error.h"
+
+namespace loom::lab {
+namespace {
+
+struct Measured {
+  double footprint = NAN;
+  double psnr = NAN, precompute = NAN, bytes = NAN;
+  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa;
+};
+
+double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
+
+}  // namespace
+
+std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
+  const auto column = [&](const char* name) { return table.Column(name); };
+  const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
+               footprint = column("footprint_pixels"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
+               bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
+               views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
+               lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
+               msaa = column("msaa_samples");
+  // configuration → scene → figures, in order of first appearance.
+  std::vector<std::string> order;
+  std::map<std::string, std::map<std::string, Measured>> rows;
+  for (const auto& row : table.rows) {
+    if (row[method] != "svbrdf") continue;
+    if (!rows.contains(row[configuration])) order.push_back(row[configuration]);
+    rows[row[configuration]][row[scene]] = {ToNumber(row[footprint]),    ToNumber(row[psnr]), ToNumber(row[precompute]),
+                                            ToNumber(row[bytes]), row[resolution], row[views],
+                                            row[lights],        row[lobes],         row[lut],
+                                            row[supersampling], row[level],         row[msaa]};
+  }
+  if (!rows.contains(baseline)) {
+    throw Error(ErrorCode::kInvalidArgument, "sweep CSV has no svbrdf rows of the baseline configuration '" +
+                                                 baseline + "'");
+  }
+  const auto& base = rows.at(baseline);
+  std::vector<MeasuredVariation> variations;
+  for (const std::string& name : order) {
+    if (name == baseline) continue;
+    struct Sums {
+      double psnr_change = 0, precompute = 0, base_precompute = 0, bytes = 0, base_bytes = 0;
+      int scenes = 0;
+    };
+    std::map<FootprintClass, Sums> by_class;
+    MeasuredVariation variation;
+    variation.configuration = name;
+    bool single_change = true;
+    for (const auto& [scene_name, m] : rows.at(name)) {
+      const auto found = base.find(scene_name);
+      if (found == base.end()) continue;
+      const Measured& b = found->second;
+      if (m.level_mode != b.level_mode || m.msaa != b.msaa) {
+        single_change = false;  // renders differently: not a precompute variation
+        break;
+      }
+      MeasuredVariation v;
+      int axes = 0;
+      if (m.resolution != b.resolution) v.spatial_resolution = std::stoul(m.resolution), ++axes;
+      if (m.directions != b.directions || m.lights != b.lights) {
+        if (m.directions != m.lights) axes += 2;  // unequal views and lights: not one the planner sets
+        v.directions = std::stoul(m.directions), ++axes;
+      }
+      if (m.lobes != b.lobes) v.lobes = std::stoul(m.lobes), ++axes;
+      if (m.lookup_table != b.lookup_table) v.lookup_table = m.lookup_table == "1" ? 1 : 0, ++axes;
+      if (m.supersampling != b.supersampling) {
+        v.supersampling = std::stoul(m.supersampling);
+        if (v.spatial_resolution == 0) axes += 2;  // alone it is not a setting the planner varies
+      }
+      const bool same_as_before = by_class.empty() ||
+                                  (v.spatial_resolution == variation.spatial_resolution &&
+                                   v.directions == variation.directions && v.lobes == variation.lobes &&
+                                   v.lookup_table == variation.lookup_table &&
+                                   v.supersampling == variation.supersampling);
+      if (axes != 1 || !same_as_before) {  // a combination, or a plan (settings vary by scene)
+        single_change = false;
+        break;
+      }
+      variation.spatial_resolution = v.spatial_resolution;
+      variation.directions = v.directions;
+      variation.lobes = v.lobes;
+      variation.lookup_table = v.lookup_table;
+      variation.supersampling = v.supersampling;
+      if (!std::isfinite(m.psnr) || !std::isfinite(b.psnr)) continue;
+      Sums& sums = by_class[ClassifyFootprint(b.footprint)];
+      sums.psnr_change += m.psnr - b.psnr;
+      sums.precompute += m.precompute;
+      sums.base_precompute += b.precompute;
+      sums.bytes += m.bytes;
+      sums.base_bytes += b.bytes;
+      ++sums.scenes;
+    }
+    if (!single_change) continue;
+    for (const auto& [footprint, sums] : by_class) {
+      MeasuredVariation v = variation;
+      v.footprint = footprint;
+      v.psnr_change_db = sums.psnr_change / sums.scenes;
+      v.precompute_ratio = sums.base_precompute > 0 ? sums.precompute / sums.base_precompute : 1.0;
+      v.bytes_ratio = sums.base_bytes > 0 ? sums.bytes / sums.base_bytes : 1.0;
+      v.scenes = sums.scenes;
+      variations.push_back(v);
+    }
+  }
+  return variations;
+}
+
+std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations) {
+  static const char* kClass[] = {"kNear", "kMid", "kFar"};
+  std::string text;
+  for (const MeasuredVariation& v : variations) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "    {\"%s\", FootprintClass::%s, %u, %u, %u, %d, %u, %.3f, %.4f, %.4f, %d},\n",
+                  v.configuration.c_str(), kClass[static_cast<int>(v.footprint)], v.spatial_resolution,
+                  v.directions, v.lobes, v.lookup_table, v.supersampling, v.psnr_change_db, v.precompute_ratio,
+                  v.bytes_ratio, v.scenes);
+    text += line;
+  }
+  return text;
+}
+
+}  // namespace loom::lab

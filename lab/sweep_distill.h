@@ -1,0 +1,23 @@
+#pragma once
+// Distils a sweep CSV into what the planner reads (core/plan/measured_variations.h):
+// for each svbrdf configuration that changes one precompute setting of the baseline
+// configuration (resolution, possibly with its supersampling; directions; lobes; LUT)
+// and renders like it, per footprint class (of the row's measured footprint, as the
+// planner classifies a scene), the mean PSNR change and the
+// precompute-time and asset-byte ratios over the scenes both measured.
+
+#include <string>
+#include <vector>
+
+#include "core/plan/measured_variations.h"
+#include "lab/csv_table.h"
+
+namespace loom::lab {
+
+// Error(kInvalidArgument) if the CSV has no svbrdf rows of `baseline`.
+std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline = "default");
+
+// The variations as C++ initialisers for core/plan/standard_sweep_table.inc.
+std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations);
+
+}  // namespace loom::lab

@@ -1,0 +1,171 @@
+#include "core/plan/precompute_plan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "core/spec/defaults.h"
+#include "core/spec/fabric_key.h"
+#include "core/spec/validate.h"
+#include "core/util/error.h"
+
+namespace loom {
+namespace {
+
+// A plane of side 2 seen head-on by an orthographic camera whose view is 2 units
+// high on a 100-pixel frame (50 px per unit), tiled `repeat` times: a tile spans
+// 100 / repeat pixels.
+v1::SceneSpec PlaneScene(float repeat) {
+  v1::SceneSpec scene;
+  v1::SceneObject* cloth = scene.add_objects();
+  cloth->set_name("cloth");
+  cloth->mutable_mesh()->set_builtin(v1::BUILTIN_SHAPE_PLANE);
+  cloth->mutable_transform()->mutable_scale()->set_x(2);
+  cloth->mutable_transform()->mutable_scale()->set_y(2);
+  cloth->mutable_transform()->mutable_scale()->set_z(1);
+  cloth->mutable_fabric()->mutable_fabric()->mutable_knit();
+  cloth->mutable_fabric()->set_repeat_u(repeat);
+  cloth->mutable_fabric()->set_repeat_v(repeat);
+  v1::Camera* camera = scene.mutable_camera();
+  camera->set_projection(v1::PROJECTION_ORTHOGRAPHIC);
+  camera->set_ortho_height(2);
+  camera->mutable_position()->set_z(5);
+  camera->mutable_up()->set_y(1);
+  scene.mutable_render()->set_width(100);
+  scene.mutable_render()->set_height(100);
+  scene = WithDefaults(scene);
+  ThrowIfAny(Validate(scene));
+  return scene;
+}
+
+MeasuredVariation Variation(std::string name, FootprintClass footprint, double psnr_change, double precompute_ratio) {
+  MeasuredVariation v;
+  v.configuration = std::move(name);
+  v.footprint = footprint;
+  v.psnr_change_db = psnr_change;
+  v.precompute_ratio = precompute_ratio;
+  v.bytes_ratio = precompute_ratio;
+  v.scenes = 4;
+  return v;
+}
+
+TEST(TileFootprint, HeadOnOrthographicPlaneGivesTheTileSizeInPixels) {
+  for (const float repeat : {2.0f, 10.0f, 50.0f}) {
+    const v1::SceneSpec scene = PlaneScene(repeat);
+    const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+    const TileFootprint footprint = MeasureTileFootprint(scene, meshes[0]);
+    EXPECT_GT(footprint.visible_triangles, 0);
+    EXPECT_NEAR(footprint.largest_pixels, 100.0 / repeat, 1e-3 * 100.0 / repeat);
+    EXPECT_NEAR(footprint.smallest_pixels, 100.0 / repeat, 1e-3 * 100.0 / repeat);
+  }
+}
+
+TEST(TileFootprint, ATiltedPlaneShowsLessThanHeadOn) {
+  v1::SceneSpec scene = PlaneScene(10);
+  scene.mutable_camera()->mutable_position()->set_y(-5);  // 45°
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  // The area shrinks by cos 45°, the side by its square root.
+  EXPECT_NEAR(MeasureTileFootprint(scene, meshes[0]).largest_pixels, 10.0 * std::sqrt(std::sqrt(0.5)), 1e-2);
+}
+
+TEST(PrecomputePlan, TakesTheCheapestVariationsWithinTheBudgetOnePerSetting) {
+  const v1::SceneSpec scene = PlaneScene(50);  // 2 px: far
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation res8 = Variation("res8", FootprintClass::kFar, -0.1, 0.2);
+  res8.spatial_resolution = 8;
+  res8.supersampling = 8;
+  MeasuredVariation res16 = Variation("res16", FootprintClass::kFar, 0.0, 0.4);
+  res16.spatial_resolution = 16;
+  MeasuredVariation dirs16 = Variation("dirs16", FootprintClass::kFar, -0.3, 0.1);
+  dirs16.directions = 16;
+  MeasuredVariation lobes1 = Variation("lobes1", FootprintClass::kFar, -0.3, 0.5);
+  lobes1.lobes = 1;
+  MeasuredVariation lobes1_near = Variation("lobes1", FootprintClass::kNear, 0.0, 0.01);
+  lobes1_near.lobes = 3;  // another class: must not apply
+  const std::vector<MeasuredVariation> table = {res8, res16, dirs16, lobes1, lobes1_near};
+
+  const ScenePlan plan = PlanScene(scene, meshes, 0.5, table);
+  ASSERT_EQ(plan.fabrics.size(), 1u);
+  const FabricPlan& fabric = plan.fabrics[0];
+  EXPECT_EQ(fabric.footprint_class, FootprintClass::kFar);
+  EXPECT_EQ(fabric.footprint_resolution, 4u);
+  // By saving: dirs16 (0.3 dB), res8 (0.1 dB; res16 then skipped, same setting),
+  // lobes1 would make 0.7 dB > 0.5.
+  EXPECT_EQ(fabric.chosen, (std::vector<std::string>{"dirs16", "res8"}));
+  EXPECT_EQ(fabric.settings.spatial_resolution(), 8u);
+  EXPECT_EQ(fabric.settings.supersampling(), 8u);
+  EXPECT_EQ(fabric.settings.view_directions(), 16u);
+  EXPECT_EQ(fabric.settings.light_directions(), 16u);
+  EXPECT_EQ(fabric.settings.lobes(), 2u);
+  EXPECT_NEAR(fabric.predicted_psnr_loss_db, 0.4, 1e-9);
+  EXPECT_NEAR(fabric.predicted_precompute_ratio, 0.02, 1e-9);
+  EXPECT_EQ(fabric.key, FabricKey(fabric.fabric, fabric.settings));
+
+  // A zero budget takes only what measured no loss.
+  EXPECT_EQ(PlanScene(scene, meshes, 0.0, table).fabrics[0].chosen, (std::vector<std::string>{"res16"}));
+  // A large budget takes one of each setting.
+  EXPECT_EQ(PlanScene(scene, meshes, 10.0, table).fabrics[0].chosen,
+            (std::vector<std::string>{"dirs16", "res8", "lobes1"}));
+}
+
+TEST(PrecomputePlan, NeverGoesBelowTheResolutionTheFootprintCanShow) {
+  const v1::SceneSpec scene = PlaneScene(5);  // 20 px: mid, 32 texels can show
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation res8 = Variation("res8", FootprintClass::kMid, 0.0, 0.2);
+  res8.spatial_resolution = 8;
+  const FabricPlan fabric = PlanScene(scene, meshes, 1.0, {res8}).fabrics[0];
+  EXPECT_EQ(fabric.footprint_class, FootprintClass::kMid);
+  EXPECT_EQ(fabric.footprint_resolution, 32u);
+  EXPECT_TRUE(fabric.chosen.empty());
+  EXPECT_EQ(fabric.settings.SerializeAsString(), WithDefaults(v1::PrecomputeSettings()).SerializeAsString());
+}
+
+TEST(PrecomputePlan, KeepsExplicitSettingsAndAppliesThePlanToTheOthers) {
+  v1::SceneSpec scene = PlaneScene(50);
+  *scene.add_objects() = scene.objects(0);
+  scene.mutable_objects(1)->set_name("explicit");
+  scene.mutable_objects(1)->mutable_fabric()->mutable_precompute()->set_lobes(3);
+  scene = WithDefaults(scene);
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation dirs16 = Variation("dirs16", FootprintClass::kFar, -0.1, 0.1);
+  dirs16.directions = 16;
+  const ScenePlan plan = PlanScene(scene, meshes, 0.5, {dirs16});
+  ASSERT_EQ(plan.fabrics.size(), 2u);
+  EXPECT_FALSE(plan.fabrics[0].explicit_settings);
+  EXPECT_TRUE(plan.fabrics[1].explicit_settings);
+  EXPECT_EQ(plan.fabrics[1].settings.lobes(), 3u);
+  EXPECT_EQ(plan.fabrics[1].settings.view_directions(), 64u);
+
+  const v1::SceneSpec planned = ApplyPlan(scene, plan);
+  EXPECT_EQ(planned.objects(0).fabric().precompute().view_directions(), 16u);
+  EXPECT_EQ(planned.objects(1).fabric().precompute().view_directions(), 64u);
+  EXPECT_EQ(planned.objects(1).fabric().precompute().lobes(), 3u);
+}
+
+TEST(PrecomputePlan, RejectsABadBudgetNamingIt) {
+  const v1::SceneSpec scene = PlaneScene(10);
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  try {
+    PlanScene(scene, meshes, -1.0, {});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("error budget"), std::string::npos);
+  }
+}
+
+TEST(PrecomputePlan, TheCompiledTableComesFromTheStandardSweep) {
+  // Every footprint class has measurements, each over scenes, with real ratios.
+  std::set<FootprintClass> classes;
+  for (const MeasuredVariation& v : StandardSweepVariations()) {
+    classes.insert(v.footprint);
+    EXPECT_GT(v.scenes, 0) << v.configuration;
+    EXPECT_GT(v.precompute_ratio, 0.0) << v.configuration;
+    EXPECT_GT(v.bytes_ratio, 0.0) << v.configuration;
+  }
+  EXPECT_EQ(classes.size(), 3u);
+}
+
+}  // namespace
+}  // namespace loom
