@@ -1,10 +1,12 @@
 #include "server/job_submission.h"
 
+#include <fmt/ranges.h>
 #include <google/protobuf/unknown_field_set.h>
 #include <spdlog/spdlog.h>
 
 #include <set>
 
+#include "core/plan/precompute_plan.h"
 #include "core/render/scene_render.h"
 #include "core/scene/scene_geometry.h"
 #include "core/spec/defaults.h"
@@ -73,6 +75,28 @@ v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
   return job;
 }
 
+// A render's fabrics that come without precompute settings get the least precompute
+// that serves the scene (core/plan, the default error budget), except a fabric
+// already cached at the default settings: its cost is paid, and the defaults are
+// at least as accurate. The stored scene names the settings, so the worker renders
+// what was planned. `full` is `scene` with defaults applied, `meshes` its geometry.
+v1::SceneSpec WithPlannedPrecompute(const v1::SceneSpec& scene, const v1::SceneSpec& full,
+                                    const std::vector<SceneMesh>& meshes, FabricCache& cache) {
+  ScenePlan plan = PlanScene(full, meshes, kDefaultErrorBudgetDb, StandardSweepVariations());
+  const v1::PrecomputeSettings defaults = WithDefaults(v1::PrecomputeSettings());
+  for (FabricPlan& fabric : plan.fabrics) {
+    if (fabric.explicit_settings) continue;
+    if (cache.Get(FabricKey(fabric.fabric, defaults))) {
+      fabric.settings = defaults;
+      fabric.chosen = {"the defaults, cached already"};
+    }
+    spdlog::info("precompute planned for '{}': {}", fabric.objects.front(),
+                 fabric.chosen.empty() ? "the defaults" : fmt::format("{}", fmt::join(fabric.chosen, ", ")));
+    for (const std::string& reason : fabric.reasons) spdlog::debug("plan for '{}': {}", fabric.objects.front(), reason);
+  }
+  return ApplyPlan(scene, plan);
+}
+
 }  // namespace
 
 std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
@@ -124,10 +148,11 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   const v1::SceneSpec& scene = request.render().scene();
   ThrowIfAny(Validate(scene));
   const std::set<std::string> meshes = CheckMeshSources(scene, artifacts);
-  const v1::SceneSpec full = WithDefaults(scene);
+  v1::SceneSpec full = WithDefaults(scene);
   // Parses every mesh now (errors name the object), so a bad OBJ is refused here
   // rather than failing on a worker.
-  BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh) { return artifacts.Read(mesh.artifact()); });
+  const std::vector<SceneMesh> geometry =
+      BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh) { return artifacts.Read(mesh.artifact()); });
 
   v1::Job job;
   job.set_kind(v1::JOB_KIND_RENDER);
@@ -135,6 +160,8 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   job.set_priority(request.priority());
   job.set_client_request_id(request.client_request_id());
   if (full.render().method() == v1::RENDER_METHOD_SVBRDF) {
+    *job.mutable_render()->mutable_scene() = WithPlannedPrecompute(scene, full, geometry, cache);
+    full = WithDefaults(job.render().scene());
     for (const SceneFabric& fabric : SceneFabrics(full)) {
       if (cache.Get(fabric.key)) continue;
       v1::Job dependency = SubmitFabricPrecompute(fabric, request.priority(), queue);

@@ -10,8 +10,10 @@
 #include <thread>
 
 #include "core/fit/fabric_asset.h"
+#include "core/plan/precompute_plan.h"
 #include "core/image/image.h"
 #include "core/render/scene_render.h"
+#include "core/scene/scene_geometry.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/util/error.h"
@@ -76,6 +78,31 @@ TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
     EXPECT_THAT(e.what(), HasSubstr("cannot listen on " + options.listen));
   }
   std::filesystem::remove_all(options.data_dir);
+}
+
+// A render whose fabric comes without precompute settings gets the least
+// precompute that serves it (core/plan): the dependency fits what the plan chose,
+// and the stored scene names those settings for the worker.
+TEST_F(ServiceTest, RenderWithoutPrecomputeSettingsGetsThePlannedPrecompute) {
+  ServerOptions options;
+  options.local_workers = 0;  // nothing runs: the submission is what is checked
+  StartServer(options);
+  client::JobClient client = Client();
+  v1::SceneSpec scene = TinyScene(32, 24);  // the knit's tiles cover a few pixels
+  scene.mutable_objects(0)->mutable_fabric()->clear_precompute();
+  const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
+
+  const v1::SceneSpec full = WithDefaults(scene);
+  const ScenePlan plan = PlanScene(full, BuildSceneGeometry(full, FileMeshResolver({})), kDefaultErrorBudgetDb,
+                                   StandardSweepVariations());
+  ASSERT_EQ(plan.fabrics.size(), 1u);
+  const v1::PrecomputeSettings& planned = plan.fabrics[0].settings;
+  EXPECT_LT(planned.spatial_resolution(), WithDefaults(v1::PrecomputeSettings()).spatial_resolution());
+  ASSERT_EQ(submitted.dependencies_size(), 1);
+  EXPECT_EQ(submitted.dependencies(0).precompute().settings().SerializeAsString(), planned.SerializeAsString());
+  EXPECT_EQ(submitted.dependencies(0).fabric_key(), plan.fabrics[0].key);
+  EXPECT_EQ(submitted.job().render().scene().objects(0).fabric().precompute().SerializeAsString(),
+            planned.SerializeAsString());
 }
 
 TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
