@@ -17,9 +17,7 @@ void CheckMaterial(const std::string& regime, const std::string& fabric, Compari
                    Bound fallback_fraction) {
   ComparisonOptions options;
   options.fabric = fabric;
-  const v1::SceneSpec scene = MakeComparisonScene(options);
-  CompareMethods(regime, RenderSvbrdf(scene), RenderReference(scene), bounds);
-  CheckFit(regime, FitOf(scene.objects(0).fabric()), fallback_fraction);
+  CheckRegime(regime, options, bounds, fallback_fraction);
 }
 
 // An 8×3 satin of thin, glossy yarns: eight floats per tile over 16 texels, two

@@ -16,10 +16,7 @@ ImageComparison CompareWithSettings(const std::string& regime, const std::string
                                     Bound fallback_fraction) {
   ComparisonOptions options;
   options.precompute = settings;
-  const v1::SceneSpec scene = MakeComparisonScene(options);
-  const ImageComparison comparison = CompareMethods(regime, RenderSvbrdf(scene), RenderReference(scene), bounds);
-  CheckFit(regime, FitOf(scene.objects(0).fabric()), fallback_fraction);
-  return comparison;
+  return CheckRegime(regime, options, bounds, fallback_fraction);
 }
 
 // 2×2 and 4×4 view and light grids (the smallest allowed, and under half of the

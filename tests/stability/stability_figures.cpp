@@ -130,4 +130,12 @@ void CheckFit(const std::string& regime, const FittedFabric& fit, Bound fallback
   Figure(regime, "fit", "relative_rmse_level0", fit.levels.at(0).stats.relative_rmse, Unbounded());
 }
 
+ImageComparison CheckRegime(const std::string& regime, const ComparisonOptions& options,
+                            const ComparisonBounds& bounds, Bound fallback_fraction) {
+  const v1::SceneSpec scene = MakeComparisonScene(options);
+  const ImageComparison comparison = CompareMethods(regime, RenderSvbrdf(scene), RenderReference(scene), bounds);
+  CheckFit(regime, FitOf(scene.objects(0).fabric()), fallback_fraction);
+  return comparison;
+}
+
 }  // namespace loom::testing

@@ -15,6 +15,7 @@
 #include "core/fit/fabric_fit.h"
 #include "core/image/image.h"
 #include "core/metrics/image_metrics.h"
+#include "tests/core/render/comparison_scene.h"
 
 namespace loom::testing {
 
@@ -65,5 +66,10 @@ double LobePeakLog10Ratio(const FittedFabric& fit);
 // lobe peak beyond the fit's limit (LobePeakLog10Ratio ≤ 1), the fallback
 // fraction against `fallback_fraction`.
 void CheckFit(const std::string& regime, const FittedFabric& fit, Bound fallback_fraction);
+
+// One regime end to end: the comparison scene made from `options`, its two
+// methods compared (CompareMethods) and its fit checked (CheckFit).
+ImageComparison CheckRegime(const std::string& regime, const ComparisonOptions& options,
+                            const ComparisonBounds& bounds, Bound fallback_fraction);
 
 }  // namespace loom::testing
