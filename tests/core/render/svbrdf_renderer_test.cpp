@@ -7,6 +7,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
+#include "core/gl/framebuffer.h"
 
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
@@ -97,6 +98,22 @@ TEST(SvbrdfRenderer, MsaaAveragesEdgesAgainstTheBackground) {
       if (v > 0.01f && v < 0.99f) ++partial;
     }
   EXPECT_GT(partial, 20);
+}
+
+TEST(SvbrdfRenderer, MsaaBeyondTheGlLimitRendersAtTheLimit) {
+  // Validation allows 16 samples (a GPU's count); llvmpipe's float target stops at
+  // 4, where 8 or 16 used to leave the framebuffer incomplete and the render failed.
+  const auto scene = [](int msaa) {
+    return PlaneScene(R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE"},
+        "transform": {"translation": {"x": 0.2, "y": 0.1, "z": 0.6}, "scale": {"x": 0.3, "y": 0.3, "z": 0.3}}})",
+                      R"({"direction": {"x": 0.3, "y": 0.2, "z": 1}, "intensity": 1})", msaa);
+  };
+  const RenderedFrame beyond = RenderJson(scene(16));
+  const int limit = gl::Framebuffer::MaxSamples();  // the renderer's context is current
+  ASSERT_GE(limit, 1);
+  if (limit >= 16) GTEST_SKIP() << "this GL supports 16 samples: nothing beyond its limit to test";
+  const RenderedFrame at_limit = RenderJson(scene(limit));
+  EXPECT_EQ(beyond.image.pixels, at_limit.image.pixels);
 }
 
 }  // namespace
