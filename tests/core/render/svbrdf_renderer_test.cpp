@@ -234,6 +234,28 @@ TEST(SvbrdfFabric, AlphaRisesTowardsOneBeyondTheOutermostViewRing) {
   EXPECT_NEAR(alpha(80.0f), expected, 2e-3f);
 }
 
+// A lobe past float's range (2^200 head-on), as fits made before the lobe-peak
+// guard held between their sampled directions: it overflowed to Inf, and Inf times
+// a zero T(v) (or a shadow, or a covering fragment's 1 − alpha) wrote a NaN pixel —
+// the NaN of the sweep's level-0 sphere frames. The shader caps a lobe at 2^64.
+TEST(SvbrdfFabric, AnOverflowingLobeNeverMakesANonFinitePixel) {
+  FabricTextureData data = DiffuseFabric(2, 3, glm::vec3(0.5f));
+  data.lobes = 1;
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        for (uint32_t axis = 0; axis < 3; ++axis) data.Param(level, 3 + axis, x, y) = glm::vec4(2, 2, 2, 200);
+  for (uint32_t view = 0; view < 9; ++view) data.Lut(0, 0, 0, view) = glm::vec4(0, 0, 0, 1);  // T = 0 on texel (0, 0)
+  for (int msaa : {1, 4}) {
+    const Image image = RenderCloth(ClothScene(2, false, msaa, "LEVEL_MODE_NONE"), data).image;
+    const auto non_finite = std::count_if(image.pixels.begin(), image.pixels.end(),
+                                          [](float value) { return !std::isfinite(value); });
+    EXPECT_EQ(non_finite, 0) << msaa;
+    EXPECT_EQ(image.at(8, 56, 1), 0.0f) << msaa;                    // texel (0, 0): T = 0 times the lobe
+    EXPECT_GE(image.at(24, 56, 1), std::exp2(64.0f)) << msaa;       // texel (1, 0): blown out, finite
+  }
+}
+
 TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {
   // Each level a different grey: the image shows which level was used.
   FabricTextureData data = DiffuseFabric(4, 3, glm::vec3(0.0f));
