@@ -30,20 +30,28 @@ LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags) {
               WriteImage(ErrorHeatMap(test, reference, options->heat_scale), options->heat_map);
             }
             if (flags.json) {
-              // JSON has no infinity: identical images report psnr_db null.
-              nlohmann::json figures = {{"rmse", result.rmse},
-                                        {"ssim", result.ssim},
-                                        {"perceptual_error", 1.0 - result.ssim},
+              // JSON has no infinity or NaN: identical images report psnr_db null, and
+              // images with non-finite pixels null figures (non_finite_pixels > 0).
+              const auto number = [](double value) {
+                return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
+              };
+              nlohmann::json figures = {{"rmse", number(result.rmse)},
+                                        {"psnr_db", number(result.psnr_db)},
+                                        {"ssim", number(result.ssim)},
+                                        {"perceptual_error", number(1.0 - result.ssim)},
                                         {"peak", result.peak},
                                         {"width", result.width},
-                                        {"height", result.height}};
-              figures["psnr_db"] = std::isfinite(result.psnr_db) ? nlohmann::json(result.psnr_db) : nlohmann::json();
+                                        {"height", result.height},
+                                        {"non_finite_pixels", result.non_finite_pixels}};
               if (!options->heat_map.empty()) figures["heatmap"] = options->heat_map;
               PrintJson(figures);
             } else {
               std::printf("RMSE %.6g  PSNR %.2f dB  SSIM %.4f (perceptual error %.4f)  %dx%d, peak %.4g\n",
                           result.rmse, result.psnr_db, result.ssim, 1.0 - result.ssim, result.width, result.height,
                           result.peak);
+              if (result.non_finite_pixels > 0) {
+                std::printf("%zu pixel(s) NaN or Inf: the figures are undefined\n", result.non_finite_pixels);
+              }
             }
             return 0;
           }};

@@ -37,6 +37,18 @@ void Framebuffer::Destroy(Target& target) {
   target = Target{};
 }
 
+int Framebuffer::MaxSamples() {
+  GLint limit = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &limit);
+  for (const GLenum format : {GLenum{GL_RGBA32F}, GLenum{GL_DEPTH_COMPONENT24}}) {
+    // GL_SAMPLES lists the supported counts in descending order: the first is the format's largest.
+    GLint largest = 1;
+    glGetInternalformativ(GL_RENDERBUFFER, format, GL_SAMPLES, 1, &largest);
+    limit = std::min(limit, largest);
+  }
+  return std::max(limit, 1);
+}
+
 Framebuffer::Framebuffer(int width, int height, int samples)
     : width_(width), height_(height), samples_(samples < 1 ? 1 : samples) {
   draw_ = MakeTarget(width_, height_, samples_, /*with_depth=*/true);

@@ -11,8 +11,14 @@ namespace loom::gl {
 
 class Framebuffer {
  public:
-  // samples = 1 for no MSAA. Throws Error(kInternal) if the FBO is incomplete.
+  // samples = 1 for no MSAA, at most MaxSamples(). Throws Error(kInternal) if the
+  // FBO is incomplete.
   Framebuffer(int width, int height, int samples = 1);
+
+  // The most MSAA samples this GL gives both attachments (RGBA32F colour, 24-bit
+  // depth): GL_MAX_SAMPLES bounded by each format's own limit (llvmpipe: 4).
+  // Needs a current context.
+  static int MaxSamples();
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;
   Framebuffer& operator=(const Framebuffer&) = delete;

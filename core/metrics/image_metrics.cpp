@@ -70,12 +70,21 @@ ImageComparison CompareImages(const Image& test, const Image& reference) {
   result.height = test.height;
   double squared = 0.0;
   for (int y = 0; y < test.height; ++y)
-    for (int x = 0; x < test.width; ++x)
+    for (int x = 0; x < test.width; ++x) {
+      bool finite = true;
       for (int c = 0; c < 3; ++c) {
-        const double d = static_cast<double>(test.at(x, y, c)) - reference.at(x, y, c);
-        squared += d * d;
-        result.peak = std::max(result.peak, static_cast<double>(reference.at(x, y, c)));
+        const double a = test.at(x, y, c), b = reference.at(x, y, c);
+        finite = finite && std::isfinite(a) && std::isfinite(b);
+        squared += (a - b) * (a - b);
+        if (std::isfinite(b)) result.peak = std::max(result.peak, b);
       }
+      if (!finite) ++result.non_finite_pixels;
+    }
+  if (result.non_finite_pixels > 0) {
+    // No figure describes such a pair; NaN keeps any mean or chart built on them honest.
+    result.rmse = result.psnr_db = result.ssim = std::numeric_limits<double>::quiet_NaN();
+    return result;
+  }
   const double mse = squared / (3.0 * test.width * test.height);
   result.rmse = std::sqrt(mse);
   const double peak = result.peak > 0.0 ? result.peak : 1.0;

@@ -9,10 +9,14 @@
 // - SSIM (Wang, Bovik, Sheikh, Simoncelli 2004) on luminance, 8×8 windows with
 //   stride 4, C1 = (0.01·peak)², C2 = (0.03·peak)²; reported as mean SSIM and as
 //   the perceptual error 1 − SSIM (0 = identical).
+// - Non-finite pixels: a NaN or ±Inf in either image makes every figure above
+//   meaningless (a NaN difference used to read as a zero error, PSNR +inf), so
+//   they are counted and the figures reported as NaN.
 // - Temporal flicker: the mean absolute luminance change between consecutive
 //   frames of a camera move, after undoing the move's image shift; aliasing shows
 //   up as flicker.
 
+#include <cstddef>
 #include <vector>
 
 #include "core/image/image.h"
@@ -20,11 +24,13 @@
 namespace loom {
 
 struct ImageComparison {
-  double rmse = 0.0;
+  double rmse = 0.0;     // NaN when non_finite_pixels > 0, like PSNR and SSIM
   double psnr_db = 0.0;  // +inf when identical
   double ssim = 1.0;
-  double peak = 0.0;
+  double peak = 0.0;     // over the reference's finite values
   int width = 0, height = 0;
+  // Pixels with a NaN or ±Inf in an RGB channel of either image.
+  size_t non_finite_pixels = 0;
 };
 
 // Throws Error(kInvalidArgument) if the sizes differ or an image has < 3 channels.

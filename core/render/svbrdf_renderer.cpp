@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include <spdlog/spdlog.h>
+
 #include "core/gl/framebuffer.h"
 #include "core/gl/gpu_timer.h"
 #include "core/gl/mesh_buffer.h"
@@ -64,6 +66,18 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
   program.Set("u_shadow_bias", shadows.bias());
 }
 
+// The scene's MSAA sample count, clamped to what this GL can give the float
+// target: validation allows up to 16 (a GPU's count), llvmpipe stops at 4, and a
+// larger request would leave the framebuffer incomplete.
+int MsaaSamples(const v1::RenderSettings& settings) {
+  const int requested = static_cast<int>(settings.msaa_samples());
+  const int limit = gl::Framebuffer::MaxSamples();
+  if (requested <= limit) return requested;
+  spdlog::warn("render.msaa_samples {} exceeds this GL's limit of {} samples for a float target; rendering with {}",
+               requested, limit, limit);
+  return limit;
+}
+
 }  // namespace
 
 // Texture units: the shadow maps and a fabric's two textures. Samplers of
@@ -101,7 +115,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
 
   SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, scene_program_);
 
-  gl::Framebuffer target(width, height, static_cast<int>(settings.msaa_samples()));
+  gl::Framebuffer target(width, height, MsaaSamples(settings));
   target.Bind();
   const glm::vec3 background = ToGlm(scene.background());
   glClearColor(background.r, background.g, background.b, 1.0f);

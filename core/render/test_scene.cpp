@@ -1,16 +1,25 @@
 #include "core/render/test_scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <string>
 
 #include "core/gl/framebuffer.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/gl/shader_program.h"
 #include "core/scene/builtin_shapes.h"
+#include "core/util/error.h"
 
 namespace loom {
 
 Image RenderTestScene(gl::EglContext& context, const TestSceneOptions& options) {
   context.MakeCurrent();
+  // A smoke test renders what it is asked or says why not (the svbrdf renderer clamps instead).
+  const int max_samples = gl::Framebuffer::MaxSamples();
+  if (options.msaa_samples > max_samples) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "msaa_samples " + std::to_string(options.msaa_samples) + " exceeds this GL's limit of " +
+                    std::to_string(max_samples) + " samples for a float framebuffer");
+  }
   gl::Framebuffer target(options.width, options.height, options.msaa_samples);
   gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("test_scene");
   gl::MeshBuffer floor(MakePlane(1));

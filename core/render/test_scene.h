@@ -16,7 +16,8 @@ struct TestSceneOptions {
   int msaa_samples = 4;
 };
 
-// Linear radiance, RGBA. Needs `context` current on this thread.
+// Linear radiance, RGBA. Needs `context` current on this thread. Throws
+// Error(kInvalidArgument) if msaa_samples exceeds gl::Framebuffer::MaxSamples().
 Image RenderTestScene(gl::EglContext& context, const TestSceneOptions& options);
 
 }  // namespace loom

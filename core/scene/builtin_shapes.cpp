@@ -8,9 +8,11 @@ namespace loom {
 namespace {
 
 // A (segments_u + 1) x (segments_v + 1) vertex grid from a parametric surface;
-// `surface(u, v, position, normal, tangent)` fills one vertex.
+// `surface(u, v, position, normal, tangent)` fills one vertex. With `poles`, the
+// first and last vertex rows each collapse to a point (a sphere's poles): their
+// quads are triangles, since the half with two vertices on the pole has no area.
 template <typename Surface>
-TriangleMesh MakeGrid(int segments_u, int segments_v, Surface surface) {
+TriangleMesh MakeGrid(int segments_u, int segments_v, Surface surface, bool poles = false) {
   segments_u = std::max(segments_u, 1);
   segments_v = std::max(segments_v, 1);
   TriangleMesh mesh;
@@ -29,7 +31,8 @@ TriangleMesh MakeGrid(int segments_u, int segments_v, Surface surface) {
   for (uint32_t j = 0; j < static_cast<uint32_t>(segments_v); ++j) {
     for (uint32_t i = 0; i < static_cast<uint32_t>(segments_u); ++i) {
       const uint32_t a = j * row + i, b = a + 1, c = a + row, d = c + 1;
-      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+      if (!(poles && j == 0)) mesh.indices.insert(mesh.indices.end(), {a, b, d});
+      if (!(poles && j + 1 == static_cast<uint32_t>(segments_v))) mesh.indices.insert(mesh.indices.end(), {a, d, c});
     }
   }
   return mesh;
@@ -46,13 +49,18 @@ TriangleMesh MakePlane(int segments) {
 }
 
 TriangleMesh MakeSphere(int segments) {
-  return MakeGrid(2 * segments, segments, [](float u, float v, glm::vec3& p, glm::vec3& n, glm::vec3& t) {
-    const float phi = glm::two_pi<float>() * u;
-    const float theta = glm::pi<float>() * (1.0f - v);  // from the north pole
-    n = {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-    p = n;
-    t = {-std::sin(phi), std::cos(phi), 0.0f};
-  });
+  // Two rings at least: with one, both poles' triangles would be all there is, and none has an area.
+  segments = std::max(segments, 2);
+  return MakeGrid(
+      2 * segments, segments,
+      [](float u, float v, glm::vec3& p, glm::vec3& n, glm::vec3& t) {
+        const float phi = glm::two_pi<float>() * u;
+        const float theta = glm::pi<float>() * (1.0f - v);  // from the north pole
+        n = {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+        p = n;
+        t = {-std::sin(phi), std::cos(phi), 0.0f};
+      },
+      /*poles=*/true);
 }
 
 TriangleMesh MakeCylinder(int segments) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "core/util/error.h"
@@ -35,6 +36,27 @@ TEST(ImageMetrics, ConstantOffsetGivesKnownRmseAndPsnr) {
   EXPECT_NEAR(result.rmse, 0.1, 1e-6);
   EXPECT_NEAR(result.psnr_db, 20.0, 1e-4);  // peak 1, MSE 0.01
   EXPECT_EQ(result.peak, 1.0);
+}
+
+TEST(ImageMetrics, NonFinitePixelsAreCountedAndGiveNoScore) {
+  const Image reference = Pattern(16, 16);
+  Image test = reference;
+  test.at(3, 4, 1) = std::numeric_limits<float>::quiet_NaN();
+  test.at(5, 6, 0) = std::numeric_limits<float>::infinity();
+  test.at(5, 6, 2) = -std::numeric_limits<float>::infinity();  // the same pixel: counted once
+  const ImageComparison result = CompareImages(test, reference);
+  EXPECT_EQ(result.non_finite_pixels, 2u);
+  // Before the count, the NaN difference read as no error at all: PSNR +inf.
+  EXPECT_TRUE(std::isnan(result.psnr_db));
+  EXPECT_TRUE(std::isnan(result.rmse));
+  EXPECT_TRUE(std::isnan(result.ssim));
+  // A NaN in the reference counts too, and its peak stays the finite values' largest.
+  const ImageComparison swapped = CompareImages(reference, test);
+  EXPECT_EQ(swapped.non_finite_pixels, 2u);
+  EXPECT_TRUE(std::isnan(swapped.psnr_db));
+  EXPECT_TRUE(std::isfinite(swapped.peak));
+  EXPECT_GT(swapped.peak, 0.0);
+  EXPECT_EQ(CompareImages(reference, reference).non_finite_pixels, 0u);
 }
 
 TEST(ImageMetrics, SsimFallsAsNoiseGrows) {

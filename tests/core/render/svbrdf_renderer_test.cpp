@@ -7,6 +7,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
+#include "core/gl/framebuffer.h"
 
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
@@ -97,6 +98,22 @@ TEST(SvbrdfRenderer, MsaaAveragesEdgesAgainstTheBackground) {
       if (v > 0.01f && v < 0.99f) ++partial;
     }
   EXPECT_GT(partial, 20);
+}
+
+TEST(SvbrdfRenderer, MsaaBeyondTheGlLimitRendersAtTheLimit) {
+  // Validation allows 16 samples (a GPU's count); llvmpipe's float target stops at
+  // 4, where 8 or 16 used to leave the framebuffer incomplete and the render failed.
+  const auto scene = [](int msaa) {
+    return PlaneScene(R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE"},
+        "transform": {"translation": {"x": 0.2, "y": 0.1, "z": 0.6}, "scale": {"x": 0.3, "y": 0.3, "z": 0.3}}})",
+                      R"({"direction": {"x": 0.3, "y": 0.2, "z": 1}, "intensity": 1})", msaa);
+  };
+  const RenderedFrame beyond = RenderJson(scene(16));
+  const int limit = gl::Framebuffer::MaxSamples();  // the renderer's context is current
+  ASSERT_GE(limit, 1);
+  if (limit >= 16) GTEST_SKIP() << "this GL supports 16 samples: nothing beyond its limit to test";
+  const RenderedFrame at_limit = RenderJson(scene(limit));
+  EXPECT_EQ(beyond.image.pixels, at_limit.image.pixels);
 }
 
 }  // namespace
@@ -215,6 +232,28 @@ TEST(SvbrdfFabric, AlphaRisesTowardsOneBeyondTheOutermostViewRing) {
   EXPECT_GT(expected, 0.8f);
   EXPECT_NEAR(alpha(0.0f), 0.5f, 1e-4f);
   EXPECT_NEAR(alpha(80.0f), expected, 2e-3f);
+}
+
+// A lobe past float's range (2^200 head-on), as fits made before the lobe-peak
+// guard held between their sampled directions: it overflowed to Inf, and Inf times
+// a zero T(v) (or a shadow, or a covering fragment's 1 − alpha) wrote a NaN pixel —
+// the NaN of the sweep's level-0 sphere frames. The shader caps a lobe at 2^64.
+TEST(SvbrdfFabric, AnOverflowingLobeNeverMakesANonFinitePixel) {
+  FabricTextureData data = DiffuseFabric(2, 3, glm::vec3(0.5f));
+  data.lobes = 1;
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        for (uint32_t axis = 0; axis < 3; ++axis) data.Param(level, 3 + axis, x, y) = glm::vec4(2, 2, 2, 200);
+  for (uint32_t view = 0; view < 9; ++view) data.Lut(0, 0, 0, view) = glm::vec4(0, 0, 0, 1);  // T = 0 on texel (0, 0)
+  for (int msaa : {1, 4}) {
+    const Image image = RenderCloth(ClothScene(2, false, msaa, "LEVEL_MODE_NONE"), data).image;
+    const auto non_finite = std::count_if(image.pixels.begin(), image.pixels.end(),
+                                          [](float value) { return !std::isfinite(value); });
+    EXPECT_EQ(non_finite, 0) << msaa;
+    EXPECT_EQ(image.at(8, 56, 1), 0.0f) << msaa;                    // texel (0, 0): T = 0 times the lobe
+    EXPECT_GE(image.at(24, 56, 1), std::exp2(64.0f)) << msaa;       // texel (1, 0): blown out, finite
+  }
 }
 
 TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {

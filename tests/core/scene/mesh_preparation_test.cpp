@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/scene/builtin_shapes.h"
@@ -92,6 +93,23 @@ TEST(MeshPreparation, BuiltinShapesHaveUnitFramesEverywhere) {
       EXPECT_NEAR(glm::length(glm::vec3(mesh.tangents[v])), 1.0f, 1e-4f);
       EXPECT_NEAR(glm::dot(mesh.normals[v], glm::vec3(mesh.tangents[v])), 0.0f, 1e-4f);
     }
+  }
+}
+
+TEST(MeshPreparation, BuiltinShapesHaveNoDegenerateTriangles) {
+  // The sphere's pole rows are fans of one triangle a quad (it used to emit two,
+  // one of them with two vertices on the pole, and PrepareMesh warned on every build).
+  for (int segments : {1, 2, 32}) {
+    TriangleMesh sphere = MakeSphere(segments);
+    const size_t triangles = sphere.indices.size() / 3;
+    const MeshPreparationReport report = PrepareMesh(sphere, "sphere");
+    EXPECT_EQ(report.dropped_degenerate_triangles, 0u) << segments;
+    EXPECT_EQ(report.zero_area_uv_triangles, 0u) << segments;
+    const size_t rings = std::max(segments, 2), around = 2 * rings;
+    EXPECT_EQ(triangles, 2 * around * (rings - 1)) << segments;  // two a quad, one at each pole
+  }
+  for (TriangleMesh mesh : {MakePlane(4), MakeCylinder(16), MakeDrape(32)}) {
+    EXPECT_EQ(PrepareMesh(mesh, "builtin").dropped_degenerate_triangles, 0u);
   }
 }
 
