@@ -61,7 +61,14 @@ void WriteImage(const Image& image, const std::filesystem::path& path) {
     }
     ok = out->write_image(OIIO::TypeDesc::UINT8, encoded.data());
   } else if (ok) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+    // Half floats end at 65504: a brighter finite value would be stored as Inf and
+    // read back as a non-finite pixel. NaN stays NaN (it marks a bug to find).
+    constexpr float kHalfMax = 65504.0f;
+    std::vector<float> pixels = image.pixels;
+    for (float& value : pixels) {
+      if (std::isfinite(value)) value = std::clamp(value, -kHalfMax, kHalfMax);
+    }
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
   }
   ok = ok && out->close();
   if (!ok) {

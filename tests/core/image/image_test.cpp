@@ -37,6 +37,19 @@ TEST(Image, ExrRoundTripKeepsLinearValuesToHalfPrecision) {
   }
 }
 
+TEST(Image, ExrClampsValuesBeyondHalfRangeInsteadOfStoringInf) {
+  Image image = Gradient(3);
+  image.at(1, 1, 0) = 1e6f;
+  image.at(2, 1, 1) = -1e6f;
+  image.at(3, 1, 2) = std::nanf("");
+  const auto path = TempPath("beyond_half.exr");
+  WriteImage(image, path);
+  const Image read = ReadImage(path);
+  EXPECT_EQ(read.at(1, 1, 0), 65504.0f);
+  EXPECT_EQ(read.at(2, 1, 1), -65504.0f);
+  EXPECT_TRUE(std::isnan(read.at(3, 1, 2))) << "a NaN is a bug to find: it is kept";
+}
+
 TEST(Image, PngIsSrgbEncodedAndDecodedBack) {
   const Image image = Gradient(3);
   const auto path = TempPath("round_trip.png");
