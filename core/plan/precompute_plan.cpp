@@ -24,6 +24,11 @@ uint32_t NextPowerOfTwo(double value) {
   return power;
 }
 
+std::string ClassName(const FabricPlan& plan) {
+  return std::string(FootprintClassName(plan.footprint_class)) + ", " +
+         (plan.kind_measured ? FabricKindName(plan.fabric_kind) : "every kind");
+}
+
 // Which of the settings a variation changes: the planner takes at most one per setting.
 std::string Axis(const MeasuredVariation& v) {
   if (v.spatial_resolution != 0) return "spatial_resolution";
@@ -44,6 +49,34 @@ void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
   if (v.lookup_table >= 0) settings.set_lookup_table(v.lookup_table == 1);
 }
 
+// The measurements of the fabric's class of scene (footprint class and kind). For a
+// kind the table does not hold at this footprint class, each configuration's
+// measurements over every kind, merged pessimistically: the lowest worst-case
+// change, the highest ratios.
+std::vector<MeasuredVariation> ApplicableVariations(FabricPlan& plan, const std::vector<MeasuredVariation>& variations) {
+  std::vector<MeasuredVariation> same_class, any_kind;
+  for (const MeasuredVariation& v : variations) {
+    if (v.footprint != plan.footprint_class) continue;
+    if (v.fabric_kind == plan.fabric_kind) same_class.push_back(v);
+    const auto merged = std::find_if(any_kind.begin(), any_kind.end(),
+                                     [&](const MeasuredVariation& m) { return m.configuration == v.configuration; });
+    if (merged == any_kind.end()) {
+      any_kind.push_back(v);
+      continue;
+    }
+    merged->psnr_change_db = std::min(merged->psnr_change_db, v.psnr_change_db);
+    merged->worst_psnr_change_db = std::min(merged->worst_psnr_change_db, v.worst_psnr_change_db);
+    merged->precompute_ratio = std::max(merged->precompute_ratio, v.precompute_ratio);
+    merged->bytes_ratio = std::max(merged->bytes_ratio, v.bytes_ratio);
+    merged->scenes += v.scenes;
+  }
+  plan.kind_measured = !same_class.empty();
+  if (plan.kind_measured) return same_class;
+  plan.reasons.push_back(Format("no measurements of %s fabrics %s: planned from the worst of every kind",
+                                FabricKindName(plan.fabric_kind), FootprintClassName(plan.footprint_class)));
+  return any_kind;
+}
+
 void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>& variations) {
   const v1::PrecomputeSettings defaults = WithDefaults(v1::PrecomputeSettings());
   plan.settings = defaults;
@@ -62,9 +95,12 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
         plan.footprint_resolution));
   }
 
+  plan.fabric_kind = ClassifyFabric(plan.fabric);
+  plan.reasons.push_back(Format("the fabric is %s", FabricKindName(plan.fabric_kind)));
+
+  const std::vector<MeasuredVariation> applicable = ApplicableVariations(plan, variations);
   std::vector<const MeasuredVariation*> candidates;
-  for (const MeasuredVariation& v : variations) {
-    if (v.footprint != plan.footprint_class) continue;
+  for (const MeasuredVariation& v : applicable) {
     if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) {
       plan.reasons.push_back(Format("not %s: %u texels a side are fewer than the footprint can show",
                                     v.configuration.c_str(), v.spatial_resolution));
@@ -80,11 +116,12 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
   for (const MeasuredVariation* v : candidates) {
     const std::string axis = Axis(*v);
     if (taken[axis]) continue;
-    const double loss = std::max(0.0, -v->psnr_change_db);
+    const double loss = std::max(0.0, -v->worst_psnr_change_db);
     if (plan.predicted_psnr_loss_db + loss > budget + 1e-9) {
-      plan.reasons.push_back(Format("not %s: measured %+.2f dB (%s, %d scenes) would exceed the %.2f dB budget",
-                                    v->configuration.c_str(), v->psnr_change_db,
-                                    FootprintClassName(v->footprint), v->scenes, budget));
+      plan.reasons.push_back(Format("not %s: measured %+.2f dB at worst (mean %+.2f, %s, %d scenes) would exceed the "
+                                    "%.2f dB budget",
+                                    v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
+                                    ClassName(plan).c_str(), v->scenes, budget));
       continue;
     }
     taken[axis] = true;
@@ -93,9 +130,10 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
     plan.predicted_psnr_loss_db += loss;
     plan.predicted_precompute_ratio *= v->precompute_ratio;
     plan.predicted_bytes_ratio *= v->bytes_ratio;
-    plan.reasons.push_back(Format("%s: measured %+.2f dB, precompute x%.3f, bytes x%.3f (%s, %d scenes)",
-                                  v->configuration.c_str(), v->psnr_change_db, v->precompute_ratio, v->bytes_ratio,
-                                  FootprintClassName(v->footprint), v->scenes));
+    plan.reasons.push_back(Format("%s: measured %+.2f dB at worst (mean %+.2f), precompute x%.3f, bytes x%.3f (%s, %d "
+                                  "scenes)",
+                                  v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
+                                  v->precompute_ratio, v->bytes_ratio, ClassName(plan).c_str(), v->scenes));
   }
   if (plan.chosen.empty()) plan.reasons.push_back("no measured variation fits the budget: the defaults");
 }
