@@ -57,6 +57,9 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                                  baseline + "'");
   }
   const auto& base = rows.at(baseline);
+  using SceneClass = std::pair<FootprintClass, FabricKind>;
+  std::map<SceneClass, int> base_scenes;
+  for (const auto& [scene_name, b] : base) ++base_scenes[{ClassifyFootprint(b.footprint), b.kind}];
   std::vector<MeasuredVariation> variations;
   for (const std::string& name : order) {
     if (name == baseline) continue;
@@ -65,7 +68,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       double worst_psnr_change = std::numeric_limits<double>::infinity();
       int scenes = 0;
     };
-    std::map<std::pair<FootprintClass, FabricKind>, Sums> by_class;
+    std::map<SceneClass, Sums> by_class;
+    std::map<SceneClass, int> covered;  // scenes measured, NaN images included
     MeasuredVariation variation;
     variation.configuration = name;
     bool single_change = true;
@@ -104,6 +108,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       variation.lobes = v.lobes;
       variation.lookup_table = v.lookup_table;
       variation.supersampling = v.supersampling;
+      ++covered[{ClassifyFootprint(b.footprint), b.kind}];
       // A NaN image (PSNR nan or +inf, docs/results "Known problems") says nothing
       // about accuracy: left out, as the chart leaves it out.
       if (!std::isfinite(m.psnr) || !std::isfinite(b.psnr)) continue;
@@ -118,6 +123,9 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
     }
     if (!single_change) continue;
     for (const auto& [scene_class, sums] : by_class) {
+      // Only where the variation ran on every scene of the class the baseline ran
+      // on: a worst case over some of the class is no worst case.
+      if (covered[scene_class] < base_scenes[scene_class]) continue;
       MeasuredVariation v = variation;
       v.footprint = scene_class.first;
       v.fabric_kind = scene_class.second;

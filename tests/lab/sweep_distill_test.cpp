@@ -92,6 +92,19 @@ TEST(SweepDistill, KeepsEachFabricKindApartWithItsWorstSceneAndSkipsNaNImages) {
   EXPECT_NEAR(variations[1].precompute_ratio, 0.25, 1e-9);
 }
 
+TEST(SweepDistill, GivesAClassOnlyWhereTheVariationRanOnAllOfIt) {
+  const CsvTable table = Table({
+      Row("default", "knit.a", 64, 20, 10, 100, kDefault),
+      Row("default", "knit.b", 60, 22, 10, 100, kDefault),
+      Row("default", "knit.c", 2, 21, 10, 100, kDefault),
+      Row("lobes1", "knit.a", 64, 21, 5, 90, kLobes1),  // near: a but not b
+      Row("lobes1", "knit.c", 2, 21, 5, 90, kLobes1),   // far: all of it
+  });
+  const std::vector<MeasuredVariation> variations = DistillSweep(table);
+  ASSERT_EQ(variations.size(), 1u);
+  EXPECT_EQ(variations[0].footprint, FootprintClass::kFar);
+}
+
 TEST(SweepDistill, RejectsAnUnknownFabricKindNamingIt) {
   try {
     DistillSweep(Table({Row("default", "a", 64, 20, 10, 100, kDefault, "TRILINEAR", "silk")}));
