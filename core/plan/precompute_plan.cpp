@@ -29,15 +29,6 @@ std::string ClassName(const FabricPlan& plan) {
          (plan.kind_measured ? FabricKindName(plan.fabric_kind) : "every kind");
 }
 
-// Which of the settings a variation changes: the planner takes at most one per setting.
-std::string Axis(const MeasuredVariation& v) {
-  if (v.spatial_resolution != 0) return "spatial_resolution";
-  if (v.directions != 0) return "directions";
-  if (v.lobes != 0) return "lobes";
-  if (v.lookup_table >= 0) return "lookup_table";
-  return "other";
-}
-
 void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
   if (v.spatial_resolution != 0) settings.set_spatial_resolution(v.spatial_resolution);
   if (v.supersampling != 0) settings.set_supersampling(v.supersampling);
@@ -112,24 +103,29 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto* a, const auto* b) {
     return a->precompute_ratio < b->precompute_ratio;
   });
-  std::map<std::string, bool> taken;
+  // The cheapest measured variation within the budget on every scene of the class,
+  // and only one: the sweep measures variations one at a time, and their
+  // combination is not the sum of their losses (precompute_plan.h).
   for (const MeasuredVariation* v : candidates) {
-    const std::string axis = Axis(*v);
-    if (taken[axis]) continue;
+    if (!plan.chosen.empty()) {
+      plan.reasons.push_back(Format("not %s: saves less (precompute x%.3f) than %s, and variations are measured one "
+                                    "at a time",
+                                    v->configuration.c_str(), v->precompute_ratio, plan.chosen.front().c_str()));
+      continue;
+    }
     const double loss = std::max(0.0, -v->worst_psnr_change_db);
-    if (plan.predicted_psnr_loss_db + loss > budget + 1e-9) {
+    if (loss > budget + 1e-9) {
       plan.reasons.push_back(Format("not %s: measured %+.2f dB at worst (mean %+.2f, %s, %d scenes) would exceed the "
                                     "%.2f dB budget",
                                     v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
                                     ClassName(plan).c_str(), v->scenes, budget));
       continue;
     }
-    taken[axis] = true;
     Apply(*v, plan.settings);
     plan.chosen.push_back(v->configuration);
-    plan.predicted_psnr_loss_db += loss;
-    plan.predicted_precompute_ratio *= v->precompute_ratio;
-    plan.predicted_bytes_ratio *= v->bytes_ratio;
+    plan.predicted_psnr_loss_db = loss;
+    plan.predicted_precompute_ratio = v->precompute_ratio;
+    plan.predicted_bytes_ratio = v->bytes_ratio;
     plan.reasons.push_back(Format("%s: measured %+.2f dB at worst (mean %+.2f), precompute x%.3f, bytes x%.3f (%s, %d "
                                   "scenes)",
                                   v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
