@@ -31,6 +31,8 @@ nlohmann::json PlanJson(const ScenePlan& plan) {
                        {"visible_triangles", fabric.footprint.visible_triangles},
                        {"footprint_class", FootprintClassName(fabric.footprint_class)},
                        {"footprint_resolution", fabric.footprint_resolution},
+                       {"fabric_kind", FabricKindName(fabric.fabric_kind)},
+                       {"fabric_kind_measured", fabric.kind_measured},
                        {"chosen", fabric.chosen},
                        {"settings", SettingsJson(fabric.settings)},
                        {"predicted_psnr_loss_db", fabric.predicted_psnr_loss_db},
@@ -52,7 +54,7 @@ void PrintPlan(const ScenePlan& plan) {
                 s.spatial_resolution(), s.view_directions(), s.light_directions(), s.lobes(),
                 s.lookup_table() ? "on" : "off", s.supersampling());
     if (!fabric.explicit_settings) {
-      std::printf("  predicted against the defaults: PSNR -%.2f dB, precompute x%.3f, bytes x%.3f\n",
+      std::printf("  predicted against the defaults: PSNR -%.2f dB at worst, precompute x%.3f, bytes x%.3f\n",
                   fabric.predicted_psnr_loss_db, fabric.predicted_precompute_ratio, fabric.predicted_bytes_ratio);
     }
     std::printf("  why:\n");

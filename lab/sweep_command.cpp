@@ -20,6 +20,7 @@
 
 #include "core/image/image.h"
 #include "core/metrics/image_metrics.h"
+#include "core/plan/fabric_kind.h"
 #include "core/plan/screen_footprint.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
@@ -39,7 +40,7 @@ namespace {
 
 const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "fabric", "view", "distance", "tile_pixels",
-    "footprint_pixels",
+    "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
     "supersampling", "level_mode", "msaa_samples", "reference_samples",
     "precompute_seconds", "asset_bytes", "frame_ms", "gpu_ms",
@@ -255,6 +256,7 @@ class Sweep {
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
     results_.Append({configuration.name, scene.name, svbrdf ? "svbrdf" : "reference", scene.fabric, scene.view,
                      scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
+                     FabricKindName(ClassifyFabric(configured.objects(0).fabric().fabric())),
                      when_svbrdf(std::to_string(precompute.spatial_resolution())),
                      when_svbrdf(std::to_string(precompute.view_directions())),
                      when_svbrdf(std::to_string(precompute.light_directions())),

@@ -1,8 +1,11 @@
 #include "lab/sweep_distill.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
+#include <utility>
 
 #include "core/util/error.h"
 
@@ -11,18 +14,28 @@ namespace {
 
 struct Measured {
   double footprint = NAN;
+  FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
   std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
 
+FabricKind ToKind(const std::string& field, const std::string& scene) {
+  const std::optional<FabricKind> kind = ParseFabricKind(field);
+  if (!kind) {
+    throw Error(ErrorCode::kInvalidArgument, "sweep CSV, scene " + scene + ": fabric_kind '" + field +
+                                                 "' is not one of knit-matte, knit-glossy, woven-matte, woven-glossy");
+  }
+  return *kind;
+}
+
 }  // namespace
 
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
   const auto column = [&](const char* name) { return table.Column(name); };
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
-               footprint = column("footprint_pixels"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
+               footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
@@ -33,7 +46,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   for (const auto& row : table.rows) {
     if (row[method] != "svbrdf") continue;
     if (!rows.contains(row[configuration])) order.push_back(row[configuration]);
-    rows[row[configuration]][row[scene]] = {ToNumber(row[footprint]),    ToNumber(row[psnr]), ToNumber(row[precompute]),
+    rows[row[configuration]][row[scene]] = {ToNumber(row[footprint]), ToKind(row[kind], row[scene]),
+                                            ToNumber(row[psnr]), ToNumber(row[precompute]),
                                             ToNumber(row[bytes]), row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
                                             row[supersampling], row[level],         row[msaa]};
@@ -43,14 +57,19 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                                  baseline + "'");
   }
   const auto& base = rows.at(baseline);
+  using SceneClass = std::pair<FootprintClass, FabricKind>;
+  std::map<SceneClass, int> base_scenes;
+  for (const auto& [scene_name, b] : base) ++base_scenes[{ClassifyFootprint(b.footprint), b.kind}];
   std::vector<MeasuredVariation> variations;
   for (const std::string& name : order) {
     if (name == baseline) continue;
     struct Sums {
       double psnr_change = 0, precompute = 0, base_precompute = 0, bytes = 0, base_bytes = 0;
+      double worst_psnr_change = std::numeric_limits<double>::infinity();
       int scenes = 0;
     };
-    std::map<FootprintClass, Sums> by_class;
+    std::map<SceneClass, Sums> by_class;
+    std::map<SceneClass, int> covered;  // scenes measured, NaN images included
     MeasuredVariation variation;
     variation.configuration = name;
     bool single_change = true;
@@ -89,9 +108,13 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       variation.lobes = v.lobes;
       variation.lookup_table = v.lookup_table;
       variation.supersampling = v.supersampling;
+      ++covered[{ClassifyFootprint(b.footprint), b.kind}];
+      // A NaN image (PSNR nan or +inf, docs/results "Known problems") says nothing
+      // about accuracy: left out, as the chart leaves it out.
       if (!std::isfinite(m.psnr) || !std::isfinite(b.psnr)) continue;
-      Sums& sums = by_class[ClassifyFootprint(b.footprint)];
+      Sums& sums = by_class[{ClassifyFootprint(b.footprint), b.kind}];
       sums.psnr_change += m.psnr - b.psnr;
+      sums.worst_psnr_change = std::min(sums.worst_psnr_change, m.psnr - b.psnr);
       sums.precompute += m.precompute;
       sums.base_precompute += b.precompute;
       sums.bytes += m.bytes;
@@ -99,10 +122,15 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       ++sums.scenes;
     }
     if (!single_change) continue;
-    for (const auto& [footprint, sums] : by_class) {
+    for (const auto& [scene_class, sums] : by_class) {
+      // Only where the variation ran on every scene of the class the baseline ran
+      // on: a worst case over some of the class is no worst case.
+      if (covered[scene_class] < base_scenes[scene_class]) continue;
       MeasuredVariation v = variation;
-      v.footprint = footprint;
+      v.footprint = scene_class.first;
+      v.fabric_kind = scene_class.second;
       v.psnr_change_db = sums.psnr_change / sums.scenes;
+      v.worst_psnr_change_db = sums.worst_psnr_change;
       v.precompute_ratio = sums.base_precompute > 0 ? sums.precompute / sums.base_precompute : 1.0;
       v.bytes_ratio = sums.base_bytes > 0 ? sums.bytes / sums.base_bytes : 1.0;
       v.scenes = sums.scenes;
@@ -114,13 +142,15 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
 
 std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations) {
   static const char* kClass[] = {"kNear", "kMid", "kFar"};
+  static const char* kKind[] = {"kKnitMatte", "kKnitGlossy", "kWovenMatte", "kWovenGlossy"};
   std::string text;
   for (const MeasuredVariation& v : variations) {
     char line[512];
     std::snprintf(line, sizeof line,
-                  "    {\"%s\", FootprintClass::%s, %u, %u, %u, %d, %u, %.3f, %.4f, %.4f, %d},\n",
-                  v.configuration.c_str(), kClass[static_cast<int>(v.footprint)], v.spatial_resolution,
-                  v.directions, v.lobes, v.lookup_table, v.supersampling, v.psnr_change_db, v.precompute_ratio,
+                  "    {\"%s\", FootprintClass::%s, FabricKind::%s, %u, %u, %u, %d, %u, %.3f, %.3f, %.4f, %.4f, %d},\n",
+                  v.configuration.c_str(), kClass[static_cast<int>(v.footprint)],
+                  kKind[static_cast<int>(v.fabric_kind)], v.spatial_resolution, v.directions, v.lobes,
+                  v.lookup_table, v.supersampling, v.psnr_change_db, v.worst_psnr_change_db, v.precompute_ratio,
                   v.bytes_ratio, v.scenes);
     text += line;
   }

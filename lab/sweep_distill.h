@@ -2,9 +2,13 @@
 // Distils a sweep CSV into what the planner reads (core/plan/measured_variations.h):
 // for each svbrdf configuration that changes one precompute setting of the baseline
 // configuration (resolution, possibly with its supersampling; directions; lobes; LUT)
-// and renders like it, per footprint class (of the row's measured footprint, as the
-// planner classifies a scene), the mean PSNR change and the
-// precompute-time and asset-byte ratios over the scenes both measured.
+// and renders like it, per class of scene — footprint class (of the row's measured
+// footprint, as the planner classifies a scene) and fabric kind (the row's
+// fabric_kind) — the mean and the worst PSNR change and the precompute-time and
+// asset-byte ratios over the scenes both measured. A class is given only where the
+// variation ran on every scene of the class the baseline ran on (the worst case of
+// part of a class says nothing of the rest). Rows whose image held NaN (PSNR not
+// finite) count as run but leave no figure, as the chart leaves them out.
 
 #include <string>
 #include <vector>

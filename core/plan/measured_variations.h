@@ -1,9 +1,11 @@
 #pragma once
 // What the standard sweep measured about cheaper precompute settings: for each
-// footprint class (near / mid / far) and each variation of the default settings,
-// how much PSNR against the ground truth it lost or gained and what it cost in
-// precompute time and asset bytes, relative to the defaults on the same scenes.
-// The planner (core/plan/precompute_plan.h) chooses from these.
+// class of scene — footprint class (near / mid / far) and fabric kind (knit or
+// woven, glossy or matte: core/plan/fabric_kind.h) — and each variation of the
+// default settings, how much PSNR against the ground truth it lost or gained (on
+// average and on the class's worst scene) and what it cost in precompute time and
+// asset bytes, relative to the defaults on the same scenes. The planner
+// (core/plan/precompute_plan.h) chooses from these.
 //
 // StandardSweepVariations() is compiled in, distilled from the committed
 // docs/results/sweep.csv by `loom-lab plan --distill docs/results/sweep.csv`
@@ -12,6 +14,8 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/plan/fabric_kind.h"
 
 namespace loom {
 
@@ -27,16 +31,18 @@ const char* FootprintClassName(FootprintClass footprint);  // "near", "mid", "fa
 struct MeasuredVariation {
   std::string configuration;  // the sweep's name for it, e.g. "lobes1"
   FootprintClass footprint = FootprintClass::kMid;
+  FabricKind fabric_kind = FabricKind::kKnitMatte;
   // The settings it changes; 0 (or -1 for lookup_table) = as the default.
   uint32_t spatial_resolution = 0;
   uint32_t directions = 0;  // view and light alike
   uint32_t lobes = 0;
   int lookup_table = -1;
   uint32_t supersampling = 0;
-  double psnr_change_db = 0.0;    // mean over the class's scenes, minus the default's
+  double psnr_change_db = 0.0;        // mean over the class's scenes, minus the default's
+  double worst_psnr_change_db = 0.0;  // the lowest over the class's scenes: what the planner budgets
   double precompute_ratio = 1.0;  // mean precompute seconds over the default's
   double bytes_ratio = 1.0;
-  int scenes = 0;                 // how many scenes the means are over
+  int scenes = 0;                 // how many scenes the figures are over
 };
 
 const std::vector<MeasuredVariation>& StandardSweepVariations();

@@ -24,13 +24,9 @@ uint32_t NextPowerOfTwo(double value) {
   return power;
 }
 
-// Which of the settings a variation changes: the planner takes at most one per setting.
-std::string Axis(const MeasuredVariation& v) {
-  if (v.spatial_resolution != 0) return "spatial_resolution";
-  if (v.directions != 0) return "directions";
-  if (v.lobes != 0) return "lobes";
-  if (v.lookup_table >= 0) return "lookup_table";
-  return "other";
+std::string ClassName(const FabricPlan& plan) {
+  return std::string(FootprintClassName(plan.footprint_class)) + ", " +
+         (plan.kind_measured ? FabricKindName(plan.fabric_kind) : "every kind");
 }
 
 void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
@@ -42,6 +38,34 @@ void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
   }
   if (v.lobes != 0) settings.set_lobes(v.lobes);
   if (v.lookup_table >= 0) settings.set_lookup_table(v.lookup_table == 1);
+}
+
+// The measurements of the fabric's class of scene (footprint class and kind). For a
+// kind the table does not hold at this footprint class, each configuration's
+// measurements over every kind, merged pessimistically: the lowest worst-case
+// change, the highest ratios.
+std::vector<MeasuredVariation> ApplicableVariations(FabricPlan& plan, const std::vector<MeasuredVariation>& variations) {
+  std::vector<MeasuredVariation> same_class, any_kind;
+  for (const MeasuredVariation& v : variations) {
+    if (v.footprint != plan.footprint_class) continue;
+    if (v.fabric_kind == plan.fabric_kind) same_class.push_back(v);
+    const auto merged = std::find_if(any_kind.begin(), any_kind.end(),
+                                     [&](const MeasuredVariation& m) { return m.configuration == v.configuration; });
+    if (merged == any_kind.end()) {
+      any_kind.push_back(v);
+      continue;
+    }
+    merged->psnr_change_db = std::min(merged->psnr_change_db, v.psnr_change_db);
+    merged->worst_psnr_change_db = std::min(merged->worst_psnr_change_db, v.worst_psnr_change_db);
+    merged->precompute_ratio = std::max(merged->precompute_ratio, v.precompute_ratio);
+    merged->bytes_ratio = std::max(merged->bytes_ratio, v.bytes_ratio);
+    merged->scenes += v.scenes;
+  }
+  plan.kind_measured = !same_class.empty();
+  if (plan.kind_measured) return same_class;
+  plan.reasons.push_back(Format("no measurements of %s fabrics %s: planned from the worst of every kind",
+                                FabricKindName(plan.fabric_kind), FootprintClassName(plan.footprint_class)));
+  return any_kind;
 }
 
 void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>& variations) {
@@ -62,9 +86,12 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
         plan.footprint_resolution));
   }
 
+  plan.fabric_kind = ClassifyFabric(plan.fabric);
+  plan.reasons.push_back(Format("the fabric is %s", FabricKindName(plan.fabric_kind)));
+
+  const std::vector<MeasuredVariation> applicable = ApplicableVariations(plan, variations);
   std::vector<const MeasuredVariation*> candidates;
-  for (const MeasuredVariation& v : variations) {
-    if (v.footprint != plan.footprint_class) continue;
+  for (const MeasuredVariation& v : applicable) {
     if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) {
       plan.reasons.push_back(Format("not %s: %u texels a side are fewer than the footprint can show",
                                     v.configuration.c_str(), v.spatial_resolution));
@@ -76,26 +103,33 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto* a, const auto* b) {
     return a->precompute_ratio < b->precompute_ratio;
   });
-  std::map<std::string, bool> taken;
+  // The cheapest measured variation within the budget on every scene of the class,
+  // and only one: the sweep measures variations one at a time, and their
+  // combination is not the sum of their losses (precompute_plan.h).
   for (const MeasuredVariation* v : candidates) {
-    const std::string axis = Axis(*v);
-    if (taken[axis]) continue;
-    const double loss = std::max(0.0, -v->psnr_change_db);
-    if (plan.predicted_psnr_loss_db + loss > budget + 1e-9) {
-      plan.reasons.push_back(Format("not %s: measured %+.2f dB (%s, %d scenes) would exceed the %.2f dB budget",
-                                    v->configuration.c_str(), v->psnr_change_db,
-                                    FootprintClassName(v->footprint), v->scenes, budget));
+    if (!plan.chosen.empty()) {
+      plan.reasons.push_back(Format("not %s: saves less (precompute x%.3f) than %s, and variations are measured one "
+                                    "at a time",
+                                    v->configuration.c_str(), v->precompute_ratio, plan.chosen.front().c_str()));
       continue;
     }
-    taken[axis] = true;
+    const double loss = std::max(0.0, -v->worst_psnr_change_db);
+    if (loss > budget + 1e-9) {
+      plan.reasons.push_back(Format("not %s: measured %+.2f dB at worst (mean %+.2f, %s, %d scenes) would exceed the "
+                                    "%.2f dB budget",
+                                    v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
+                                    ClassName(plan).c_str(), v->scenes, budget));
+      continue;
+    }
     Apply(*v, plan.settings);
     plan.chosen.push_back(v->configuration);
-    plan.predicted_psnr_loss_db += loss;
-    plan.predicted_precompute_ratio *= v->precompute_ratio;
-    plan.predicted_bytes_ratio *= v->bytes_ratio;
-    plan.reasons.push_back(Format("%s: measured %+.2f dB, precompute x%.3f, bytes x%.3f (%s, %d scenes)",
-                                  v->configuration.c_str(), v->psnr_change_db, v->precompute_ratio, v->bytes_ratio,
-                                  FootprintClassName(v->footprint), v->scenes));
+    plan.predicted_psnr_loss_db = loss;
+    plan.predicted_precompute_ratio = v->precompute_ratio;
+    plan.predicted_bytes_ratio = v->bytes_ratio;
+    plan.reasons.push_back(Format("%s: measured %+.2f dB at worst (mean %+.2f), precompute x%.3f, bytes x%.3f (%s, %d "
+                                  "scenes)",
+                                  v->configuration.c_str(), v->worst_psnr_change_db, v->psnr_change_db,
+                                  v->precompute_ratio, v->bytes_ratio, ClassName(plan).c_str(), v->scenes));
   }
   if (plan.chosen.empty()) plan.reasons.push_back("no measured variation fits the budget: the defaults");
 }

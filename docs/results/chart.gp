@@ -1,4 +1,4 @@
-cd "/work/wt-sweep/docs/results"
+cd "/work/wt-plan/docs/results"
 set datafile missing 'nan'
 set logscale x
 set grid

@@ -55,6 +55,8 @@ TEST(QuickSweep, MeasuresEveryRowAndChartsAParetoFront) {
     EXPECT_GT(Figure(table, row, "rmse"), 0.0);  // nothing matches the ground truth exactly
     EXPECT_GE(Figure(table, row, "perceptual_error"), 0.0);
     EXPECT_LE(Figure(table, row, "perceptual_error"), 2.0);
+    // The kind the planner's measurements are kept by (core/plan/fabric_kind.h).
+    EXPECT_EQ(row[table.Column("fabric_kind")], row[1].starts_with("plain.") ? "woven-matte" : "knit-matte");
     if (row[table.Column("method")] == "svbrdf") {
       ++svbrdf_rows;
       EXPECT_GT(Figure(table, row, "precompute_seconds"), 0.0);

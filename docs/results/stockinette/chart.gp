@@ -1,4 +1,4 @@
-cd "/work/wt-sweep/docs/results/stockinette"
+cd "/work/wt-plan/docs/results/stockinette"
 set datafile missing 'nan'
 set logscale x
 set grid

@@ -1,0 +1,112 @@
+#!/usr/bin/env python3
+"""The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
+usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB]
+Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
+image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
+import csv, math, statistics, sys
+
+def rows(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+def num(text):
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+def finite(values):
+    return [v for v in values if math.isfinite(v)]
+
+def med(values, fmt):
+    values = finite(values)
+    return fmt % statistics.median(values) if values else "–"
+
+STANDARD = ("flat0.near", "flat60.mid", "flat80.far", "sphere.mid")
+
+def standard(scene):
+    return scene.split(".", 1)[1] in STANDARD
+
+def sweep(path):
+    table = rows(path)
+    order = []
+    for r in table:
+        if r["configuration"] not in order:
+            order.append(r["configuration"])
+    print("| configuration | scenes | PSNR dB | 1 − SSIM | frame ms | GPU ms | precompute s | asset KiB | flicker | blow-ups (of) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for c in order:
+        mine = [r for r in table if r["configuration"] == c]
+        std = [r for r in mine if standard(r["scene"])]
+        svb = mine[0]["method"] == "svbrdf"
+        blow = sum(1 for r in mine if not math.isfinite(num(r["psnr_db"])) or num(r["psnr_db"]) < 0 or math.isnan(num(r["flicker"])))
+        col = lambda k: [num(r[k]) for r in std]
+        print(f"| {c} | {len(std)} | {med(col('psnr_db'), '%.2f')} | {med(col('perceptual_error'), '%.3f')} | "
+              f"{med(col('frame_ms'), '%.0f')} | {med(col('gpu_ms'), '%.0f') if svb else '–'} | "
+              f"{med(col('precompute_seconds'), '%.1f') if svb else '–'} | "
+              f"{med([v / 1024 for v in col('asset_bytes')], '%.0f') if svb else '–'} | "
+              f"{med(col('flicker'), '%.4f')} | {blow} ({len(mine)}) |")
+    print()
+    groups = [("near (64 px tiles, 0°)", ("flat0.near",)), ("mid (16 px at 60°, sphere)", ("flat60.mid", "sphere.mid")),
+              ("far (2 px at 80°)", ("flat80.far",))]
+    configs = ["default", "reference-4", "reference-16", "reference-64", "level-none"]
+    print("| distance | scenes | default svbrdf | reference-4 | reference-16 | reference-64 | svbrdf level-none |")
+    print("|---|---|---|---|---|---|---|")
+    for label, views in groups:
+        cells = []
+        n = 0
+        for c in configs:
+            sel = [r for r in table if r["configuration"] == c and r["scene"].split(".", 1)[1] in views]
+            n = max(n, len(sel))
+            col = lambda k: [num(r[k]) for r in sel]
+            cells.append(f"{med(col('psnr_db'), '%.2f')} / {med(col('perceptual_error'), '%.3f')} / "
+                         f"{med(col('flicker'), '%.3f')} / {med(col('frame_ms'), '%.0f')}")
+        print(f"| {label} | {n} | " + " | ".join(cells) + " |")
+
+def plan(path, budget=0.5):
+    table = rows(path)
+    by = {}
+    for r in table:
+        by.setdefault(r["scene"], {})[r["configuration"]] = r
+    scenes = [s for s in by if "default" in by[s] and "plan" in by[s]]
+    rec = []
+    for s in scenes:
+        d, p = by[s]["default"], by[s]["plan"]
+        change = num(p["psnr_db"]) - num(d["psnr_db"])
+        rec.append(dict(scene=s, fabric=d["fabric"], d=d, p=p, change=change,
+                        within=math.isfinite(change) and change >= -budget - 1e-9,
+                        t=num(p["precompute_seconds"]) / num(d["precompute_seconds"]),
+                        b=num(p["asset_bytes"]) / num(d["asset_bytes"])))
+    n = len(rec)
+    ch = finite([r["change"] for r in rec])
+    print(f"| plan within the {budget} dB budget (PSNR ≥ default − {budget} dB) | **{sum(r['within'] for r in rec)} of {n}** |")
+    print(f"| plan's asset smaller | **{sum(r['b'] < 1 for r in rec)} of {n}** (median ×{statistics.median([r['b'] for r in rec]):.2f}, worst ×{max(r['b'] for r in rec):.2f}) |")
+    print(f"| plan's precompute time smaller, as recorded | {sum(r['t'] < 1 for r in rec)} of {n} (median ×{statistics.median([r['t'] for r in rec]):.2f}, worst ×{max(r['t'] for r in rec):.2f}) |")
+    print(f"| median PSNR change | {statistics.median(ch):+.2f} dB (mean {statistics.mean(ch):+.2f}, worst {min(ch):+.2f}, best {max(ch):+.2f}) |")
+    print()
+    print("| fabric | within budget | median PSNR change | worst PSNR change | median time ratio | median bytes ratio |")
+    print("|---|---|---|---|---|---|")
+    fabrics = []
+    for r in rec:
+        if r["fabric"] not in fabrics:
+            fabrics.append(r["fabric"])
+    for f in fabrics:
+        mine = [r for r in rec if r["fabric"] == f]
+        print(f"| {f} | {sum(r['within'] for r in mine)} of {len(mine)} | {statistics.median([r['change'] for r in mine]):+.2f} dB | "
+              f"{min(r['change'] for r in mine):+.2f} dB | ×{statistics.median([r['t'] for r in mine]):.3f} | ×{statistics.median([r['b'] for r in mine]):.3f} |")
+    print()
+    print("| scene | tile px | plan: texels, directions, lobes, LUT, ss | precompute s default → plan | bytes KiB default → plan | PSNR dB default → plan | change | within 0.5 dB |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rec:
+        d, p = r["d"], r["p"]
+        print(f"| {r['scene']} | {d['footprint_pixels'] and '%.0f' % num(d['footprint_pixels'])} | "
+              f"{p['spatial_resolution']}, {p['view_directions']}, {p['lobes']}, {'on' if p['lookup_table'] == '1' else 'off'}, {p['supersampling']} | "
+              f"{num(d['precompute_seconds']):.1f} → {num(p['precompute_seconds']):.1f} (×{r['t']:.2f}) | "
+              f"{num(d['asset_bytes']) / 1024:.0f} → {num(p['asset_bytes']) / 1024:.0f} (×{r['b']:.2f}) | "
+              f"{num(d['psnr_db']):.2f} → {num(p['psnr_db']):.2f} | {r['change']:+.2f} | {'yes' if r['within'] else '**no**'} |")
+
+if __name__ == "__main__":
+    if sys.argv[1] == "sweep":
+        sweep(sys.argv[2])
+    else:
+        plan(sys.argv[2], float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)
