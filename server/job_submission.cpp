@@ -80,13 +80,18 @@ v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
 // already cached at the default settings: its cost is paid, and the defaults are
 // at least as accurate. The stored scene names the settings, so the worker renders
 // what was planned. `full` is `scene` with defaults applied, `meshes` its geometry.
+// Adds to `cached` the keys found intact in the cache (a lookup verifies every
+// file's checksum: the caller need not look them up again).
 v1::SceneSpec WithPlannedPrecompute(const v1::SceneSpec& scene, const v1::SceneSpec& full,
-                                    const std::vector<SceneMesh>& meshes, FabricCache& cache) {
+                                    const std::vector<SceneMesh>& meshes, FabricCache& cache,
+                                    std::set<std::string>& cached) {
   ScenePlan plan = PlanScene(full, meshes, kDefaultErrorBudgetDb, StandardSweepVariations());
   const v1::PrecomputeSettings defaults = WithDefaults(v1::PrecomputeSettings());
   for (FabricPlan& fabric : plan.fabrics) {
     if (fabric.explicit_settings) continue;
-    if (cache.Get(FabricKey(fabric.fabric, defaults))) {
+    const std::string default_key = FabricKey(fabric.fabric, defaults);
+    if (cache.Get(default_key)) {
+      cached.insert(default_key);
       fabric.settings = defaults;
       fabric.chosen = {"the defaults, cached already"};
     }
@@ -160,10 +165,11 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   job.set_priority(request.priority());
   job.set_client_request_id(request.client_request_id());
   if (full.render().method() == v1::RENDER_METHOD_SVBRDF) {
-    *job.mutable_render()->mutable_scene() = WithPlannedPrecompute(scene, full, geometry, cache);
+    std::set<std::string> cached;
+    *job.mutable_render()->mutable_scene() = WithPlannedPrecompute(scene, full, geometry, cache, cached);
     full = WithDefaults(job.render().scene());
     for (const SceneFabric& fabric : SceneFabrics(full)) {
-      if (cache.Get(fabric.key)) continue;
+      if (cached.contains(fabric.key) || cache.Get(fabric.key)) continue;
       v1::Job dependency = SubmitFabricPrecompute(fabric, request.priority(), queue);
       job.add_depends_on(dependency.id());
       *response.add_dependencies() = std::move(dependency);
