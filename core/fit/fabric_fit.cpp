@@ -32,8 +32,10 @@ FittedLevel FinestLevel(const RadianceSamples& samples) {
   return level;
 }
 
-// Level k + 1's geometry from level k's (§5.1): normals averaged, tangents
-// re-derived, alpha per view averaged.
+// Level k + 1's geometry from level k's (§5.1): normals averaged, each weighted
+// by its texel's coverage summed over the views (acquisition's normal is the mean
+// over the rays that hit, so a mostly empty child must not count as a full one),
+// tangents re-derived, alpha per view averaged.
 FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
   FittedLevel coarse;
   coarse.resolution = fine.resolution / 2;
@@ -47,8 +49,12 @@ FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
     for (size_t child_y = 2 * y; child_y < 2 * y + 2; ++child_y) {
       for (size_t child_x = 2 * x; child_x < 2 * x + 2; ++child_x) {
         const size_t child = child_y * fine.resolution + child_x;
-        normal += fine.normals[child];
-        for (size_t v = 0; v < views; ++v) coarse.alpha[texel * views + v] += 0.25f * fine.alpha[child * views + v];
+        float coverage = 0.0f;
+        for (size_t v = 0; v < views; ++v) {
+          coverage += fine.alpha[child * views + v];
+          coarse.alpha[texel * views + v] += 0.25f * fine.alpha[child * views + v];
+        }
+        normal += coverage * fine.normals[child];
       }
     }
     coarse.normals[texel] = SafeNormalize(normal, glm::vec3(0, 0, 1));
@@ -58,8 +64,8 @@ FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
 }
 
 // Every raw sample of `texel` of `level` (the level-0 texels it covers, views with
-// alpha > 0) in the texel's local frame, those of one view and light pooled
-// (texel_fit.h TexelSamples): they share the texel's frame.
+// alpha > 0) in the texel's local frame, those of one view and light pooled and
+// weighted by their alpha (texel_fit.h TexelSamples): they share the texel's frame.
 TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& level_data, uint32_t level,
                            size_t texel) {
   const size_t views = samples.view_count(), lights = samples.light_count();
@@ -76,18 +82,23 @@ TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& le
   TexelSamples result(static_cast<uint32_t>(views));
   result.Reserve(views * lights);
   std::vector<size_t> seen;  // the covered texels with alpha > 0 for a view
+  std::vector<float> coverages;  // their alpha
   std::vector<glm::vec3> pooled;
   for (size_t v = 0; v < views; ++v) {
     seen.clear();
+    coverages.clear();
     for (size_t child : covered) {
-      if (samples.alpha[samples.AlphaIndex(child, v)] > 0.0f) seen.push_back(child);
+      const float alpha = samples.alpha[samples.AlphaIndex(child, v)];
+      if (alpha <= 0.0f) continue;
+      seen.push_back(child);
+      coverages.push_back(alpha);
     }
     if (seen.empty()) continue;
     const glm::vec3 local_view = frame.ToLocal(samples.view_directions[v]);
     for (size_t l = 0; l < lights; ++l) {
       pooled.clear();
       for (size_t child : seen) pooled.push_back(samples.radiance[samples.RadianceIndex(child, v, l)]);
-      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled);
+      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled, coverages);
     }
   }
   return result;
@@ -173,7 +184,7 @@ FitLevelStats LevelStats(uint32_t k, const FittedLevel& level, const std::vector
   stats.resolution = level.resolution;
   stats.fit_seconds = seconds;
   std::vector<double> rmse;
-  double squared_error = 0.0, radiance = 0.0;
+  double squared_error = 0.0, radiance = 0.0, weight = 0.0;
   for (const TexelFit& fit : fits) {
     stats.samples += fit.samples;
     switch (fit.status) {
@@ -186,8 +197,9 @@ FitLevelStats LevelStats(uint32_t k, const FittedLevel& level, const std::vector
     stats.lm_iterations_per_texel += fit.lm_iterations;
     stats.mean_alternations += fit.alternations;
     rmse.push_back(fit.rmse);
-    squared_error += fit.rmse * fit.rmse * fit.samples;
-    radiance += fit.mean_radiance * fit.samples;
+    squared_error += fit.rmse * fit.rmse * fit.weight;
+    radiance += fit.mean_radiance * fit.weight;
+    weight += fit.weight;
   }
   if (!rmse.empty()) {
     stats.lm_iterations_per_texel /= rmse.size();
@@ -197,7 +209,7 @@ FitLevelStats LevelStats(uint32_t k, const FittedLevel& level, const std::vector
     stats.rmse_p95 = rmse[std::min(rmse.size() - 1, static_cast<size_t>(std::ceil(0.95 * rmse.size())) - 1)];
     stats.rmse_max = rmse.back();
   }
-  if (radiance > 0.0) stats.relative_rmse = std::sqrt(squared_error * stats.samples) / radiance;
+  if (radiance > 0.0) stats.relative_rmse = std::sqrt(squared_error * weight) / radiance;
   return stats;
 }
 

@@ -350,18 +350,26 @@ void TexelSamples::Push(glm::vec3 light, glm::vec3 view, uint32_t view_index, gl
 void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
   Push(light, view, view_index, radiance, 1.0);
   ++raw_count_;
+  raw_weight_ += 1.0;
   radiance_sum_ += glm::dvec3(radiance);
 }
 
 void TexelSamples::AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index,
-                             std::span<const glm::vec3> radiances) {
-  const double n = static_cast<double>(radiances.size());
+                             std::span<const glm::vec3> radiances, std::span<const float> coverages) {
+  double weight = 0.0;
   glm::dvec3 sum(0.0);
-  for (const glm::vec3& r : radiances) sum += glm::dvec3(r);
-  const glm::dvec3 mean = sum / n;
-  for (const glm::vec3& r : radiances) spread_ += (glm::dvec3(r) - mean) * (glm::dvec3(r) - mean);
-  Push(light, view, view_index, mean, std::sqrt(n));
+  for (size_t j = 0; j < radiances.size(); ++j) {
+    weight += coverages[j];
+    sum += double{coverages[j]} * glm::dvec3(radiances[j]);
+  }
+  const glm::dvec3 mean = sum / weight;
+  for (size_t j = 0; j < radiances.size(); ++j) {
+    const glm::dvec3 d = glm::dvec3(radiances[j]) - mean;
+    spread_ += double{coverages[j]} * d * d;
+  }
+  Push(light, view, view_index, mean, std::sqrt(weight));
   raw_count_ += radiances.size();
+  raw_weight_ += weight;
   radiance_sum_ += sum;
 }
 
@@ -376,6 +384,7 @@ ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const Texel
   ChannelFit fit = FitChannel(samples.geometry(), samples.Channel(channel), options, starts);
   fit.squared_error += samples.PooledSpread(channel);
   fit.samples = samples.raw_count();
+  fit.weight = samples.raw_weight();
   fit.radiance_sum = samples.RadianceSum(channel);
   return fit;
 }
@@ -385,6 +394,7 @@ TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t 
   fit.status = TexelFitStatus::kBlack;  // the least; each channel can only raise it
   fit.brdf.lobe_count = lobes;
   fit.samples = channels[0].samples;
+  fit.weight = channels[0].weight;
   fit.lut.assign(channels[0].lut.size(), glm::vec3(1.0f));
   double squared_error = 0.0, radiance_sum = 0.0;
   for (int c = 0; c < 3; ++c) {
@@ -398,9 +408,9 @@ TexelFit CombineChannelFits(const std::array<ChannelFit, 3>& channels, uint32_t 
     fit.status = std::max(fit.status, channel.status);
     fit.lut_changes[c] = channel.lut_changes;
   }
-  if (fit.samples > 0) {
-    fit.rmse = std::sqrt(squared_error / (3.0 * fit.samples));
-    fit.mean_radiance = radiance_sum / (3.0 * fit.samples);
+  if (fit.weight > 0.0) {
+    fit.rmse = std::sqrt(squared_error / (3.0 * fit.weight));
+    fit.mean_radiance = radiance_sum / (3.0 * fit.weight);
   }
   return fit;
 }

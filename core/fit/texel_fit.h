@@ -65,16 +65,25 @@ TexelFitOptions MakeTexelFitOptions(const v1::PrecomputeSettings& settings);
 //
 // Pooled samples. A mip texel fits the samples of its 2×2 children in its own
 // frame, so the children's samples of one view and light have the same directions
-// and differ only in radiance. For n such samples with radiances r_j and mean r̄,
+// and differ only in radiance. Each raw sample also stands for a share of the
+// texel's rays: its coverage w_j, the fraction of its texel's rays that hit yarn
+// (acquisition's alpha), since a texel's radiance is the mean over its rays that
+// hit. For radiances r_j with weights w_j, W = Σ w_j and r̄ = Σ w_j r_j / W,
 //
-//   Σ_j (m − r_j)² = n (m − r̄)² + Σ_j (r_j − r̄)²   for every model value m,
+//   Σ_j w_j (m − r_j)² = W (m − r̄)² + Σ_j w_j (r_j − r̄)²   for every model value m,
 //
-// so they are stored as one sample of radiance r̄ and weight n, and the spread
-// Σ (r_j − r̄)² (which no model can explain) is added back to the fit's error: the
-// fit, its error and its RMSE are those of the n raw samples, at the cost of one.
-// The weight is carried as √n on both the cosine and the radiance (e = T·l_z·f − r
-// is linear in both), so every sum of squares over the stored samples is the
-// weighted one and the fitting code needs no weights.
+// so they are stored as one sample of radiance r̄ and weight W, and the spread
+// Σ w_j (r_j − r̄)² (which no model can explain) is added back to the fit's error:
+// the fit, its error and its RMSE are those of the raw rays that hit, at the cost
+// of one sample. The weight is carried as √W on both the cosine and the radiance
+// (e = T·l_z·f − r is linear in both), so every sum of squares over the stored
+// samples is the weighted one and the fitting code needs no weights.
+//
+// Why coverage: a child hit by one ray in four must not count as much as a fully
+// covered one. Unweighted, a coarse texel's target depended on the resolution its
+// children were acquired at — the same 2×2 level fitted from 32 texels with 2×2
+// rays each and from 8 texels with 8×8 rays each differed by up to 9 dB of PSNR in
+// far-distance frames of the bench set (docs/results/plan.md).
 class TexelSamples {
  public:
   explicit TexelSamples(uint32_t view_count);
@@ -83,9 +92,10 @@ class TexelSamples {
   // Unit light and view directions in the local frame, the view's index in the
   // stored view directions, the RGB radiance. Only samples with alpha > 0.
   void Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance);
-  // Raw samples with these directions and view, one radiance each (at least one),
-  // stored as one pooled sample.
-  void AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index, std::span<const glm::vec3> radiances);
+  // Raw samples with these directions and view, one radiance and one coverage
+  // (> 0, at most 1) each, at least one, stored as one pooled sample.
+  void AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index, std::span<const glm::vec3> radiances,
+                 std::span<const float> coverages);
 
   const TexelGeometry& geometry() const { return geometry_; }
   uint32_t view_count() const { return geometry_.view_count; }
@@ -94,9 +104,11 @@ class TexelSamples {
   // Channel c of every stored sample's radiance, √n-weighted.
   std::vector<double> Channel(int c) const;
 
-  // Over the raw samples: their count, channel c's radiance sum, and the spread
-  // within pooled samples that the fit's error must add.
+  // Over the raw samples: their count, their summed coverage, channel c's
+  // coverage-weighted radiance sum, and the spread within pooled samples that the
+  // fit's error must add.
   size_t raw_count() const { return raw_count_; }
+  double raw_weight() const { return raw_weight_; }
   double RadianceSum(int c) const { return radiance_sum_[c]; }
   double PooledSpread(int c) const { return spread_[c]; }
 
@@ -106,6 +118,7 @@ class TexelSamples {
   TexelGeometry geometry_;
   std::vector<glm::dvec3> radiance_;
   size_t raw_count_ = 0;
+  double raw_weight_ = 0.0;
   glm::dvec3 radiance_sum_{0.0};
   glm::dvec3 spread_{0.0};
 };
@@ -119,7 +132,8 @@ struct ChannelFit {
   std::vector<double> lut_changes;  // mean |ΔT| after each lobe fit of the kept attempt
   TexelFitStatus status = TexelFitStatus::kOk;
   size_t samples = 0;               // the channel's valid raw samples
-  double radiance_sum = 0.0;        // Σ r over them
+  double weight = 0.0;              // Σ w over them (TexelSamples)
+  double radiance_sum = 0.0;        // Σ w r over them
 };
 
 // A start other than the paper's for the fit with every requested lobe:
@@ -145,7 +159,8 @@ struct TexelFit {
   LafortuneBrdf brdf;
   std::vector<glm::vec3> lut;  // T per view
   size_t samples = 0;          // valid samples (each RGB)
-  double rmse = 0.0;           // over every valid sample and channel
+  double weight = 0.0;         // their summed coverage (TexelSamples)
+  double rmse = 0.0;           // over every valid sample and channel, coverage-weighted
   double mean_radiance = 0.0;  // likewise; rmse / mean_radiance is the relative error
   uint32_t lm_iterations = 0;  // sum over the channels
   uint32_t alternations = 0;   // the most of any channel

@@ -18,9 +18,10 @@ namespace loom {
 
 // Bumped whenever the asset layout or the meaning of a fitted parameter changes
 // (2: 32-bit lobe coefficients and frame in half-float assets; the shortened LUT step;
-// 3: lobes peaking above ten times the energy-conserving peak are refitted with fewer):
+// 3: lobes peaking above ten times the energy-conserving peak are refitted with fewer;
+// 4: samples and normals weighted by coverage when a mip texel pools its children):
 // it invalidates every cached fabric.
-inline constexpr uint32_t kAssetFormatVersion = 3;
+inline constexpr uint32_t kAssetFormatVersion = 4;
 
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 

@@ -175,12 +175,14 @@ TEST(TexelFit, LutChangeSequenceIsNonIncreasing) {
 }
 
 // A mip texel's samples of one view and light share their directions; pooled into
-// one (mean radiance, weight n) they give the fit, error and RMSE of the raw ones.
-// Not to the last digit: Ceres stops on the relative decrease of the cost, and
-// the raw cost carries the noise's spread between the copies, which the pooled
-// cost leaves out, so the raw fit stops a little earlier (a little worse).
+// one (coverage-weighted mean radiance, weight Σ coverage) they give the fit, error
+// and RMSE of the raw rays: here copy j, of coverage w_j, stands for 4·w_j raw
+// samples. Not to the last digit: Ceres stops on the relative decrease of the
+// cost, and the raw cost carries the noise's spread between the copies, which the
+// pooled cost leaves out, so the raw fit stops a little earlier (a little worse).
 TEST(TexelFit, PooledSamplesFitLikeTheRawOnes) {
   constexpr int kCopies = 4;
+  constexpr std::array<float, kCopies> kCoverages = {1.0f, 0.5f, 0.25f, 0.25f};
   const SyntheticTexel truth(TwoLobes(), ColouredLut());
   const std::vector<glm::vec3> directions = HemisphereGridDirections(kDirections);
   std::mt19937 random(5);
@@ -189,18 +191,19 @@ TEST(TexelFit, PooledSamplesFitLikeTheRawOnes) {
   for (uint32_t v = 0; v < kDirections; ++v) {
     for (const glm::vec3& l : directions) {
       std::array<glm::vec3, kCopies> radiances;
-      for (glm::vec3& r : radiances) {
-        r = testing::RenderModel(truth.brdf, truth.lut, v, l, directions[v]) *
-            glm::vec3(noise(random), noise(random), noise(random));
-        raw.Add(l, directions[v], v, r);
+      for (int j = 0; j < kCopies; ++j) {
+        radiances[j] = testing::RenderModel(truth.brdf, truth.lut, v, l, directions[v]) *
+                       glm::vec3(noise(random), noise(random), noise(random));
+        for (int n = 0; n < int(4 * kCoverages[j]); ++n) raw.Add(l, directions[v], v, radiances[j]);
       }
-      pooled.AddPooled(l, directions[v], v, radiances);
+      pooled.AddPooled(l, directions[v], v, radiances, kCoverages);
     }
   }
-  ASSERT_EQ(pooled.size() * kCopies, raw.size());
+  ASSERT_EQ(pooled.size() * 8, raw.size());
   const TexelFitOptions options = TightOptions(2);
   const TexelFit from_raw = FitTexel(raw, options), from_pooled = FitTexel(pooled, options);
-  EXPECT_EQ(from_pooled.samples, from_raw.samples);
+  EXPECT_EQ(from_pooled.samples, pooled.size() * kCopies);
+  EXPECT_NEAR(from_pooled.weight * 4, from_raw.weight, 1e-9 * from_raw.weight);
   EXPECT_NEAR(from_pooled.mean_radiance, from_raw.mean_radiance, 1e-12 * from_raw.mean_radiance);
   EXPECT_LE(from_pooled.rmse, from_raw.rmse * (1.0 + 1e-9));
   EXPECT_GT(from_pooled.rmse, from_raw.rmse * (1.0 - 1e-3));
