@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/acquire/hemisphere_directions.h"
@@ -190,6 +191,55 @@ TEST_F(FabricFitTest, CoarseGeometryAveragesChildren) {
   EXPECT_NEAR(glm::dot(coarse.tangents[1], coarse.normals[1]), 0.0f, 1e-6f);
   EXPECT_FLOAT_EQ(coarse.alpha[1 * kDirections], alpha);
   EXPECT_FLOAT_EQ(coarse.alpha[0 * kDirections], 0.75f) << "three of four children visible";
+}
+
+// A texel's radiance is the mean over its rays that hit yarn, so a coarse texel
+// must weight its children by coverage: here one full child of diffuse albedo 0.3
+// and one hit by a quarter of its rays, of albedo 0.1 (the other two are holes),
+// make a parent of (1 · 0.3 + 0.25 · 0.1) / 1.25 = 0.26, not the children's plain
+// mean 0.2. Their normals are averaged with the same weights.
+TEST(FabricFit, CoarseTexelsWeightTheirChildrenByCoverage) {
+  constexpr uint32_t kDirections16 = 16;
+  RadianceSamples samples(2, HemisphereGridDirections(kDirections16), HemisphereGridDirections(kDirections16));
+  const std::array<float, 4> albedo = {0.3f, 0.1f, 0.0f, 0.0f}, coverage = {1.0f, 0.25f, 0.0f, 0.0f};
+  const std::array<glm::vec3, 4> normals = {glm::normalize(glm::vec3(0.2f, 0.0f, 1.0f)),
+                                            glm::normalize(glm::vec3(-0.2f, 0.0f, 1.0f)), glm::vec3(0, 0, 1),
+                                            glm::vec3(0, 0, 1)};
+  for (size_t texel = 0; texel < 4; ++texel) {
+    samples.normals[texel] = normals[texel];
+    samples.tangents[texel] = TexelTangent(normals[texel]);
+    for (size_t v = 0; v < samples.view_count(); ++v) {
+      samples.alpha[samples.AlphaIndex(texel, v)] = coverage[texel];
+      for (size_t l = 0; l < samples.light_count(); ++l) {
+        // A Lambertian yarn lying flat, per unit irradiance.
+        const float cosine = std::max(0.0f, samples.light_directions[l].z);
+        samples.radiance[samples.RadianceIndex(texel, v, l)] = glm::vec3(albedo[texel] / float(M_PI) * cosine);
+      }
+    }
+  }
+  v1::PrecomputeSettings settings;
+  settings.set_lobes(1);
+  const FittedFabric fabric = FitFabric(samples, settings, {}, 1);
+  ASSERT_EQ(fabric.levels.size(), 2u);
+  const FittedLevel& parent = fabric.levels[1];
+
+  const glm::vec3 expected_normal = glm::normalize(1.0f * normals[0] + 0.25f * normals[1]);
+  EXPECT_LT(glm::length(parent.normals[0] - expected_normal), 1e-5f);
+  EXPECT_FLOAT_EQ(parent.alpha[0], 1.25f / 4.0f);
+
+  // The parent's model summed over every pair, against the same sum of albedo
+  // 0.26 (the plain mean's 0.2 would be 23% short).
+  const TexelFrame frame(parent.normals[0], parent.tangents[0]);
+  double model_sum = 0.0, expected_sum = 0.0;
+  for (size_t v = 0; v < samples.view_count(); ++v) {
+    for (size_t l = 0; l < samples.light_count(); ++l) {
+      const glm::vec3 model = parent.lut[v] * parent.brdfs[0].Evaluate(frame.ToLocal(samples.light_directions[l]),
+                                                                      frame.ToLocal(samples.view_directions[v]));
+      model_sum += model.x;
+      expected_sum += 0.26 / M_PI * std::max(0.0f, samples.light_directions[l].z);
+    }
+  }
+  EXPECT_NEAR(model_sum / expected_sum, 1.0, 0.02);
 }
 
 TEST(FabricFit, ResultDoesNotDependOnThreadCount) {
