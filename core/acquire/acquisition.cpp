@@ -178,7 +178,13 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
                        uint64_t& rays, uint64_t& replaced) {
   const uint32_t res = samples.resolution;
   const uint32_t s = pass.supersampling;
-  const glm::vec2 corner(static_cast<float>(texel % res), static_cast<float>(texel / res));
+  // The tile is a grid of (res·s)² cells with one jittered ray each, every cell's
+  // jitter drawn from its own stream: 8 texels of 8×8 rays and 32 texels of 2×2
+  // cast the same rays, so a mip level pools the same samples whatever resolution
+  // it was acquired at (fabric_fit.h), and the planner's resolution variations
+  // change the finest level only.
+  const uint32_t side = res * s;
+  const uint64_t cell_x0 = uint64_t{texel % res} * s, cell_y0 = uint64_t{texel / res} * s;
   const bool indirect = pass.indirect.light_count > 0;
   scratch.sum.resize(pass.light_count);
   scratch.irradiance.resize(pass.light_count);
@@ -188,12 +194,12 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
     std::fill(scratch.sum.begin(), scratch.sum.end(), glm::vec3(0.0f));
     // The same jittered pattern for every view: a view's samples then differ from
     // the next view's only by the projection.
-    RandomStream random(pass.seed, RandomStream::kTexelJitter, texel);
     uint32_t covered = 0;
-    for (uint32_t sy = 0; sy < s; ++sy) {
-      for (uint32_t sx = 0; sx < s; ++sx) {
-        const glm::vec2 sub(sx + random.Uniform(), sy + random.Uniform());
-        const glm::vec2 xy = (corner + sub / static_cast<float>(s)) / static_cast<float>(res);
+    for (uint64_t cell_y = cell_y0; cell_y < cell_y0 + s; ++cell_y) {
+      for (uint64_t cell_x = cell_x0; cell_x < cell_x0 + s; ++cell_x) {
+        RandomStream random(pass.seed, RandomStream::kTexelJitter, cell_y * side + cell_x);
+        const glm::vec2 cell(static_cast<float>(cell_x) + random.Uniform(), static_cast<float>(cell_y) + random.Uniform());
+        const glm::vec2 xy = cell / static_cast<float>(side);
         ++rays;
         const auto hit = pass.scene.Intersect({xy, pass.top}, -v);
         if (!hit) continue;
@@ -297,6 +303,10 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   for (size_t texel = 0; texel < texels; ++texel) {
     samples.normals[texel] = SafeNormalize(normal_sums[texel], glm::vec3(0, 0, 1));
     samples.tangents[texel] = TexelTangent(samples.normals[texel]);
+    double hits = 0.0;  // over every view
+    for (size_t view = 0; view < views; ++view) hits += double{samples.alpha[samples.AlphaIndex(texel, view)]} * s * s;
+    samples.normal_lengths[texel] =
+        hits > 0.0 ? static_cast<float>(std::min(1.0, glm::length(glm::dvec3(normal_sums[texel])) / hits)) : 0.0f;
   }
   tracker.Begin("done", 0);
 

@@ -27,7 +27,7 @@ static_assert(std::endian::native == std::endian::little, "the samples file is l
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 must be three packed floats");
 
 constexpr char kMagic[8] = {'L', 'O', 'O', 'M', 'R', 'S', 'M', 'P'};
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4 * sizeof(uint32_t);
 constexpr size_t kChecksumBytes = 64;  // SHA-256 as hex
 
@@ -78,6 +78,7 @@ RadianceSamples::RadianceSamples(uint32_t resolution, std::vector<glm::vec3> vie
       light_directions(std::move(lights)),
       normals(texel_count(), glm::vec3(0, 0, 1)),
       tangents(texel_count(), glm::vec3(1, 0, 0)),
+      normal_lengths(texel_count(), 1.0f),
       alpha(texel_count() * view_count(), 0.0f),
       radiance(texel_count() * view_count() * light_count(), glm::vec3(0.0f)) {}
 
@@ -89,7 +90,8 @@ double RadianceSamples::MeanAlpha() const {
 std::string EncodeRadianceSamples(const RadianceSamples& s) {
   // A file whose arrays disagree with its dimensions could never be read back.
   const size_t texels = s.texel_count();
-  if (s.normals.size() != texels || s.tangents.size() != texels || s.alpha.size() != texels * s.view_count() ||
+  if (s.normals.size() != texels || s.tangents.size() != texels || s.normal_lengths.size() != texels ||
+      s.alpha.size() != texels * s.view_count() ||
       s.radiance.size() != texels * s.view_count() * s.light_count()) {
     throw Error(ErrorCode::kInvalidArgument, "radiance samples: array sizes do not match " +
                                                  std::to_string(s.resolution) + "² texels × " +
@@ -105,6 +107,7 @@ std::string EncodeRadianceSamples(const RadianceSamples& s) {
   Append(out, s.light_directions);
   Append(out, s.normals);
   Append(out, s.tangents);
+  Append(out, s.normal_lengths);
   Append(out, s.alpha);
   Append(out, s.radiance);
   out += Sha256Hex(out);
@@ -147,7 +150,7 @@ RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string&
     throw fail("dimensions " + std::to_string(s.resolution) + "² texels × " + std::to_string(views) + " views × " +
                std::to_string(lights) + " lights are not k×k direction grids within the caps of core/spec/limits.h");
   }
-  const size_t floats = 3 * (views + lights) + 6 * texels + texels * views + 3 * texels * views * lights;
+  const size_t floats = 3 * (views + lights) + 7 * texels + texels * views + 3 * texels * views * lights;
   if (body.size() != kHeaderBytes + floats * sizeof(float)) {
     throw fail("size " + std::to_string(bytes.size()) + " bytes does not match its dimensions");
   }
@@ -155,10 +158,11 @@ RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string&
   in.Fill(s.light_directions, lights);
   in.Fill(s.normals, texels);
   in.Fill(s.tangents, texels);
+  in.Fill(s.normal_lengths, texels);
   in.Fill(s.alpha, texels * views);
   in.Fill(s.radiance, texels * views * lights);
   if (!(AllFinite(s.view_directions) && AllFinite(s.light_directions) && AllFinite(s.normals) &&
-        AllFinite(s.tangents) && AllFinite(s.alpha) && AllFinite(s.radiance))) {
+        AllFinite(s.tangents) && AllFinite(s.normal_lengths) && AllFinite(s.alpha) && AllFinite(s.radiance))) {
     throw fail("contains a non-finite number");
   }
   return s;

@@ -13,17 +13,21 @@
 //   radiance[(texel·V + view)·L + light]       RGB; 0 where alpha is 0
 //   normals[texel], tangents[texel]            unit; tangent ⟂ normal, in the plane
 //                                              of the normal and +x, with t·x ≥ 0
+//   normal_lengths[texel]                      |mean of the hit normals| in [0, 1]:
+//                                              1 where every ray met yarn facing one
+//                                              way; with alpha it weights the texel's
+//                                              normal when a mip level averages them
 // Radiance is per unit irradiance of a directional light at normal incidence (the
 // convention of core/acquire/acquisition.h). Every value is finite.
 //
-// File (version 1), little-endian, no padding:
+// File (version 2), little-endian, no padding:
 //   offset 0   char[8]  magic "LOOMRSMP"
-//          8   u32      version (1)
+//          8   u32      version (2)
 //         12   u32      resolution
 //         16   u32      V (view count)
 //         20   u32      L (light count)
 //         24   f32      view_directions[V][3], light_directions[L][3],
-//                       normals[res²][3], tangents[res²][3],
+//                       normals[res²][3], tangents[res²][3], normal_lengths[res²],
 //                       alpha[res²][V], radiance[res²][V][L][3]
 //   end − 64   char[64] SHA-256 (lowercase hex) of every byte before it
 // Reading verifies the checksum, the dimensions against the caps of
@@ -45,11 +49,12 @@ struct RadianceSamples {
   std::vector<glm::vec3> light_directions;
   std::vector<glm::vec3> normals;
   std::vector<glm::vec3> tangents;
+  std::vector<float> normal_lengths;
   std::vector<float> alpha;
   std::vector<glm::vec3> radiance;
 
   RadianceSamples() = default;
-  // Zero samples with the given directions; normals +z, tangents +x.
+  // Zero samples with the given directions; normals +z, tangents +x, lengths 1.
   RadianceSamples(uint32_t resolution, std::vector<glm::vec3> views, std::vector<glm::vec3> lights);
 
   size_t texel_count() const { return size_t{resolution} * resolution; }

@@ -32,34 +32,46 @@ FittedLevel FinestLevel(const RadianceSamples& samples) {
   return level;
 }
 
-// Level k + 1's geometry from level k's (§5.1): normals averaged, each weighted
-// by its texel's coverage summed over the views (acquisition's normal is the mean
-// over the rays that hit, so a mostly empty child must not count as a full one),
-// tangents re-derived, alpha per view averaged.
-FittedLevel CoarserLevel(const FittedLevel& fine, size_t views) {
+// Per level-0 texel, the sum of the normals its rays hit, in units of the
+// texel's rays: acquisition's mean normal scaled by its length and by the
+// texel's coverage summed over the views. Summed over a mip texel's children it
+// is the sum over every ray under it, whatever resolution they were acquired at.
+std::vector<glm::dvec3> HitNormalSums(const RadianceSamples& samples) {
+  std::vector<glm::dvec3> sums(samples.texel_count());
+  for (size_t texel = 0; texel < sums.size(); ++texel) {
+    double coverage = 0.0;
+    for (size_t v = 0; v < samples.view_count(); ++v) coverage += samples.alpha[samples.AlphaIndex(texel, v)];
+    sums[texel] = glm::dvec3(samples.normals[texel]) * double{samples.normal_lengths[texel]} * coverage;
+  }
+  return sums;
+}
+
+// Level k + 1's geometry from level k's (§5.1): normals averaged over the rays
+// under each texel (`normal_sums`, level k's on entry, level k + 1's on return;
+// acquisition's normal is the mean over the rays that hit, so a mostly empty or
+// incoherent child must not count as a full one), tangents re-derived, alpha per
+// view averaged.
+FittedLevel CoarserLevel(const FittedLevel& fine, std::vector<glm::dvec3>& normal_sums, size_t views) {
   FittedLevel coarse;
   coarse.resolution = fine.resolution / 2;
   const size_t texels = size_t{coarse.resolution} * coarse.resolution;
   coarse.normals.resize(texels);
   coarse.tangents.resize(texels);
   coarse.alpha.assign(texels * views, 0.0f);
+  std::vector<glm::dvec3> coarse_sums(texels, glm::dvec3(0.0));
   for (size_t texel = 0; texel < texels; ++texel) {
     const size_t x = texel % coarse.resolution, y = texel / coarse.resolution;
-    glm::vec3 normal(0.0f);
     for (size_t child_y = 2 * y; child_y < 2 * y + 2; ++child_y) {
       for (size_t child_x = 2 * x; child_x < 2 * x + 2; ++child_x) {
         const size_t child = child_y * fine.resolution + child_x;
-        float coverage = 0.0f;
-        for (size_t v = 0; v < views; ++v) {
-          coverage += fine.alpha[child * views + v];
-          coarse.alpha[texel * views + v] += 0.25f * fine.alpha[child * views + v];
-        }
-        normal += coverage * fine.normals[child];
+        coarse_sums[texel] += normal_sums[child];
+        for (size_t v = 0; v < views; ++v) coarse.alpha[texel * views + v] += 0.25f * fine.alpha[child * views + v];
       }
     }
-    coarse.normals[texel] = SafeNormalize(normal, glm::vec3(0, 0, 1));
+    coarse.normals[texel] = SafeNormalize(glm::vec3(coarse_sums[texel]), glm::vec3(0, 0, 1));
     coarse.tangents[texel] = TexelTangent(coarse.normals[texel]);
   }
+  normal_sums = std::move(coarse_sums);
   return coarse;
 }
 
@@ -228,7 +240,10 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   fabric.view_directions = samples.view_directions;
   const uint32_t level_count = LevelCount(samples.resolution, resolved.mip_levels());
   fabric.levels.push_back(FinestLevel(samples));
-  for (uint32_t k = 1; k < level_count; ++k) fabric.levels.push_back(CoarserLevel(fabric.levels.back(), views));
+  std::vector<glm::dvec3> normal_sums = HitNormalSums(samples);
+  for (uint32_t k = 1; k < level_count; ++k) {
+    fabric.levels.push_back(CoarserLevel(fabric.levels.back(), normal_sums, views));
+  }
 
   // Level by level, finest first: a coarse texel starts from the closest of its
   // children's fits and their mean (texel_fit.h ChannelStart). Within a level every

@@ -19,7 +19,8 @@ namespace loom {
 // Bumped whenever the asset layout or the meaning of a fitted parameter changes
 // (2: 32-bit lobe coefficients and frame in half-float assets; the shortened LUT step;
 // 3: lobes peaking above ten times the energy-conserving peak are refitted with fewer;
-// 4: samples and normals weighted by coverage when a mip texel pools its children):
+// 4: acquisition's rays on one grid over the tile whatever the resolution, and a mip
+// texel pooling its children's samples and hit normals weighted by coverage):
 // it invalidates every cached fabric.
 inline constexpr uint32_t kAssetFormatVersion = 4;
 

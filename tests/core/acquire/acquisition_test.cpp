@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <stdexcept>
@@ -290,6 +291,48 @@ TEST(Acquisition, SameInputsGiveBitIdenticalSamplesWhateverTheThreadCount) {
   auto reseeded = settings;
   reseeded.set_seed(99);
   EXPECT_FALSE(first == EncodeRadianceSamples(Acquire(tile, reseeded, {}, nullptr, {.threads = 2})));
+}
+
+// The rays sit on one grid over the tile: 4 texels of 4×4 rays and 8 texels of
+// 2×2 cast the same 16×16 rays, so a coarse texel's samples (coverage-weighted
+// means of its children, as fabric_fit pools them) and hit normals do not depend
+// on the resolution they were acquired at.
+TEST(Acquisition, ResolutionsWithTheSameRaysPerTileSidePoolToTheSameSamples) {
+  const FabricTile tile = SmallWeave();
+  const RadianceSamples coarse = Acquire(tile, Settings(4, 9, 4, 0, 4));
+  const RadianceSamples fine = Acquire(tile, Settings(8, 9, 4, 0, 2));
+  size_t compared = 0;
+  for (size_t texel = 0; texel < coarse.texel_count(); ++texel) {
+    const size_t x = texel % 4, y = texel / 4;
+    const std::array<size_t, 4> children = {2 * y * 8 + 2 * x, 2 * y * 8 + 2 * x + 1, (2 * y + 1) * 8 + 2 * x,
+                                            (2 * y + 1) * 8 + 2 * x + 1};
+    glm::dvec3 normal_sum(0.0), coarse_normal_sum(0.0);
+    for (size_t v = 0; v < coarse.view_count(); ++v) {
+      double coverage = 0.0;
+      for (size_t child : children) coverage += fine.alpha[fine.AlphaIndex(child, v)];
+      ASSERT_FLOAT_EQ(coarse.alpha[coarse.AlphaIndex(texel, v)], float(coverage / 4)) << "texel " << texel << " view " << v;
+      if (coverage == 0.0) continue;
+      for (size_t l = 0; l < coarse.light_count(); ++l) {
+        glm::dvec3 pooled(0.0);
+        for (size_t child : children) {
+          pooled += double{fine.alpha[fine.AlphaIndex(child, v)]} * glm::dvec3(fine.radiance[fine.RadianceIndex(child, v, l)]);
+        }
+        pooled /= coverage;
+        const glm::dvec3 direct(coarse.radiance[coarse.RadianceIndex(texel, v, l)]);
+        ASSERT_LT(glm::length(pooled - direct), 1e-5 * (1.0 + glm::length(direct))) << "texel " << texel;
+        ++compared;
+      }
+    }
+    for (size_t child : children) {
+      double coverage = 0.0;
+      for (size_t v = 0; v < fine.view_count(); ++v) coverage += fine.alpha[fine.AlphaIndex(child, v)];
+      normal_sum += glm::dvec3(fine.normals[child]) * double{fine.normal_lengths[child]} * coverage;
+    }
+    ASSERT_GE(coarse.normal_lengths[texel], 0.0f);
+    ASSERT_LE(coarse.normal_lengths[texel], 1.0f);
+    EXPECT_LT(glm::length(glm::normalize(normal_sum) - glm::dvec3(coarse.normals[texel])), 1e-5) << "texel " << texel;
+  }
+  EXPECT_GT(compared, 100u);
 }
 
 TEST(Acquisition, LightBatchesGiveTheSameSamplesAsOnePass) {

@@ -22,6 +22,7 @@ RadianceSamples Filled() {
   for (size_t t = 0; t < s.texel_count(); ++t) {
     s.normals[t] = glm::normalize(glm::vec3(0.1f * t, 0.2f, 1.0f));
     s.tangents[t] = glm::normalize(glm::vec3(1.0f, 0.0f, -0.1f * t));
+    s.normal_lengths[t] = 1.0f / (t + 1);
   }
   return s;
 }
@@ -62,7 +63,7 @@ TEST(RadianceSamples, FileRoundTripGivesBackIdenticalBits) {
   EXPECT_EQ(EncodeRadianceSamples(back), ReadFile(path));
   EXPECT_TRUE(std::signbit(back.radiance[0].b));
   // Documented size: header, floats, checksum.
-  const size_t floats = 3 * (9 + 4) + 6 * 16 + 16 * 9 + 3 * 16 * 9 * 4;
+  const size_t floats = 3 * (9 + 4) + 7 * 16 + 16 * 9 + 3 * 16 * 9 * 4;
   EXPECT_EQ(std::filesystem::file_size(path), 24 + 4 * floats + 64);
   EXPECT_EQ(ReadFile(path).substr(0, 8), "LOOMRSMP");
 }
@@ -117,10 +118,10 @@ TEST(RadianceSamples, WellFormedFilesWithBadContentAreRejected) {
   EXPECT_THROW(EncodeRadianceSamples(short_alpha), Error);
 
   std::string future = EncodeRadianceSamples(Filled());
-  future[8] = 2;  // version 2, checksum recomputed
+  future[8] = 3;  // version 3, checksum recomputed
   future = future.substr(0, future.size() - 64);
   future += loom::Sha256Hex(future);
-  EXPECT_NE(DecodeError(future).find("version 2"), std::string::npos);
+  EXPECT_NE(DecodeError(future).find("version 3"), std::string::npos);
 }
 
 }  // namespace
