@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "core/gl/egl_context.h"
@@ -19,6 +20,7 @@
 #include "core/version.h"
 #include "rpc/auth.h"
 #include "rpc/channel.h"
+#include "worker/alive_file.h"
 #include "worker/worker_loop.h"
 
 namespace loom {
@@ -51,6 +53,7 @@ int Main(int argc, char** argv) {
   rpc::ChannelOptions channel;
   std::string token_file;
   double lease_wait_seconds = 10;
+  std::string alive_file;
   app.add_flag("--probe", probe, "Make the EGL context and print this worker's capabilities, then exit");
   app.add_flag("--json", json, "With --probe: print the capabilities as one JSON object");
   app.add_flag("--software", software, "Use Mesa's software device (llvmpipe) even if a GPU is present");
@@ -63,6 +66,11 @@ int Main(int argc, char** argv) {
   app.add_option("--lease-wait", lease_wait_seconds, "Seconds one lease request waits for work on the server")
       ->check(CLI::Range(0.1, 60.0))
       ->capture_default_str();
+  app.add_option("--alive-file", alive_file,
+                 "Liveness file: rewritten (one JSON line: unix_time, state, pid) whenever the worker's loop makes "
+                 "progress, at least every --lease-wait seconds while idle, for `loom-healthcheck worker-alive` to "
+                 "check its age. A render reports no progress until it ends, so a probe's max age must exceed the "
+                 "longest render (svbrdf frames take seconds, a reference render can take minutes)");
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
 
   worker::WorkerOptions options;
@@ -72,6 +80,11 @@ int Main(int argc, char** argv) {
   if (!token_file.empty()) channel.token = rpc::ReadTokenFile(token_file);
   options.lease_wait = std::chrono::milliseconds(static_cast<int64_t>(lease_wait_seconds * 1000));
   options.label = "worker-" + std::to_string(::getpid());
+  std::optional<worker::AliveFile> alive;
+  if (!alive_file.empty()) {
+    alive.emplace(alive_file);
+    options.alive = [&alive](std::string_view state) { alive->Mark(state); };
+  }
   worker::WorkerLoop loop(rpc::MakeChannel(channel), options);
   signals.Listen([&loop](int signal_number) {
     spdlog::info("signal {}: finishing or handing back the current job, then exiting", signal_number);

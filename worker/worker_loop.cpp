@@ -85,6 +85,8 @@ class WorkerLoop::Lease {
   // Core's progress callback: records progress; throws JobInterrupted once the job
   // must stop.
   void Progress(double fraction, std::string_view stage) {
+    // The stage's name, not its counter: the alive state changes a few times a job.
+    loop_.MarkAlive("job " + job_id_ + ": " + std::string(StageName(stage)));
     std::lock_guard lock(mu_);
     if (StageName(stage) != StageName(progress_.stage())) log_.push_back(std::string(StageName(stage)));
     progress_.set_fraction(fraction);
@@ -198,7 +200,12 @@ void WorkerLoop::Register(const gl::DeviceInfo& device) {
                heartbeat_interval_.count());
 }
 
+void WorkerLoop::MarkAlive(std::string_view state) const {
+  if (options_.alive) options_.alive(state);
+}
+
 void WorkerLoop::Backoff(std::chrono::milliseconds& delay) {
+  MarkAlive("server unreachable, retrying");
   std::unique_lock lock(mu_);
   wake_.wait_for(lock, delay, [this] { return stopping_.load(); });
   delay = std::min(delay * 2, kMaxBackoff);
@@ -207,6 +214,7 @@ void WorkerLoop::Backoff(std::chrono::milliseconds& delay) {
 void WorkerLoop::Run() {
   JobRunner runner(options_.gl);
   spdlog::info("{}: GL {} | {}", options_.label, runner.device().gl_vendor, runner.device().gl_renderer);
+  MarkAlive("started");
   FitCache fits;
   std::chrono::milliseconds delay = kFirstBackoff;
   bool registered = false;
@@ -214,6 +222,7 @@ void WorkerLoop::Run() {
     try {
       if (!registered) Register(runner.device());
       registered = true;
+      MarkAlive("waiting for work");
       const std::optional<v1::LeaseJobResponse> leased = LeaseJob();
       delay = kFirstBackoff;
       if (leased) RunJob(runner, fits, *leased);
@@ -282,6 +291,7 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
   const v1::Job& job = leased.job();
   const char* kind = job.has_precompute() ? "precompute" : "render";
   spdlog::info("{}: job {} ({}), attempt {}", options_.label, job.id(), kind, job.attempts());
+  MarkAlive("job " + job.id() + ": " + kind);
   Lease lease(*this, leased);
   {
     std::lock_guard lock(mu_);

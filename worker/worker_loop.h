@@ -21,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/gl/egl_context.h"
@@ -40,6 +41,13 @@ struct WorkerOptions {
   // input, as a permanent failure; anything else, a damaged transfer included, as a
   // retryable one). Tests inject failures here.
   std::function<void(const v1::Job&)> before_job;
+  // Called from the loop's own thread whenever it makes progress: "started" (the GL
+  // context exists), "waiting for work" (before each lease), "server unreachable,
+  // retrying", "job ID: precompute|render" and "job ID: STAGE" (a precompute's
+  // progress stage; a render reports none). Not from the heartbeat thread, which
+  // beats on while the work hangs. loom-worker --alive-file writes these to an
+  // AliveFile (worker/alive_file.h).
+  std::function<void(std::string_view state)> alive;
 };
 
 class WorkerLoop {
@@ -73,6 +81,8 @@ class WorkerLoop {
                                  double& run_ms);
   // Waits (interruptibly by Stop) before the next attempt to reach the server.
   void Backoff(std::chrono::milliseconds& delay);
+  // Tells options_.alive, if set, that the loop made progress.
+  void MarkAlive(std::string_view state) const;
 
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::WorkerService::Stub> stub_;

@@ -5,7 +5,9 @@
 #include <grpcpp/client_context.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <future>
+#include <mutex>
 #include <set>
 #include <thread>
 
@@ -121,6 +123,62 @@ TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
   EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
   EXPECT_THAT(fabric.manifest_json(), HasSubstr(done.fabric_key()));
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
+}
+
+// What a worker's options.alive hears, and from which threads.
+struct AliveStates {
+  std::mutex mu;
+  std::vector<std::string> states;
+  std::set<std::thread::id> threads;
+};
+
+TEST_F(ServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARender) {
+  ServerOptions options;
+  options.local_workers = 1;
+  // Shared: the local worker goes on marking until the server stops, after the test body.
+  const auto alive = std::make_shared<AliveStates>();
+  options.local_worker.alive = [alive](std::string_view state) {
+    std::lock_guard lock(alive->mu);
+    alive->states.emplace_back(state);
+    alive->threads.insert(std::this_thread::get_id());
+  };
+  StartServer(options);
+  client::JobClient client = Client();
+  const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(TinyScene(16, 12)));
+  ASSERT_EQ(submitted.dependencies_size(), 1);
+  const std::string precompute = submitted.dependencies(0).id();
+  const std::string render = submitted.job().id();
+  const v1::Job done = WaitUntilEnded(client, render);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+
+  std::lock_guard lock(alive->mu);
+  const std::vector<std::string>& states = alive->states;
+  ASSERT_FALSE(states.empty());
+  EXPECT_EQ(states.front(), "started");
+  const auto position = [&states](const std::string& state) {
+    return std::find(states.begin(), states.end(), state) - states.begin();
+  };
+  const auto waiting = position("waiting for work");
+  const auto precompute_started = position("job " + precompute + ": precompute");
+  const auto acquisition = position("job " + precompute + ": acquisition");
+  const auto fit = position("job " + precompute + ": fit");
+  const auto render_started = position("job " + render + ": render");
+  const std::string all = ::testing::PrintToString(states);
+  ASSERT_LT(render_started, std::ssize(states)) << all;  // every state was found, in this order:
+  EXPECT_LT(waiting, precompute_started) << all;
+  EXPECT_LT(precompute_started, acquisition) << all;
+  EXPECT_LT(acquisition, fit) << all;
+  EXPECT_LT(fit, render_started) << all;
+  // Progress reports mark the stage, not every counter: the state changes a handful
+  // of times per job (each change is a write of the alive file).
+  std::vector<std::string> changes;
+  std::unique_copy(states.begin(), states.end(), std::back_inserter(changes));
+  EXPECT_LE(std::count_if(changes.begin(), changes.end(),
+                          [&](const std::string& state) { return state.starts_with("job " + precompute + ":"); }),
+            6)
+      << ::testing::PrintToString(changes);
+  // Only the loop's thread marks (never the heartbeat thread).
+  EXPECT_EQ(alive->threads.size(), 1u);
 }
 
 TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) {
