@@ -23,7 +23,7 @@ void AliveFile::Mark(std::string_view state) {
   if (last_write_ && now - *last_write_ < kMinInterval && state == last_state_) return;
   last_write_ = now;
   last_state_ = std::string(state);
-  const nlohmann::json content{
+  const nlohmann::ordered_json content{
       {"unix_time", std::chrono::duration_cast<std::chrono::seconds>(now.time_since_epoch()).count()},
       {"state", last_state_},
       {"pid", static_cast<int64_t>(::getpid())}};

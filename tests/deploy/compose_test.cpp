@@ -28,11 +28,10 @@ class ComposeTest : public ::testing::Test {
   ContainerSpec Container(const std::string& name) const {
     const YAML::Node service = compose_["services"][name];
     ContainerSpec container{"compose.yaml services." + name, service["image"].as<std::string>(""),
-                            bool(service["command"]), Strings(service["command"]), {}, server_names_};
+                            bool(service["command"]), Strings(service["command"]), {}, {}, server_names_};
     if (const YAML::Node test = At(service, {"healthcheck", "test"})) {
-      std::vector<std::string> command = Strings(test);
-      if (!command.empty() && command[0] == "CMD") command.erase(command.begin());
-      container.health_commands.push_back(command);
+      container.liveness = Strings(test);
+      if (!container.liveness.empty() && container.liveness[0] == "CMD") container.liveness.erase(container.liveness.begin());
     }
     return container;
   }

@@ -63,26 +63,35 @@ std::vector<std::string> ContainerProblems(const ContainerSpec& container) {
     }
   }
 
-  if (container.health_commands.empty()) problem("no health check");
-  for (const std::vector<std::string>& command : container.health_commands) {
-    if (command.empty() || !image.programs.count(command[0])) {
-      problem("health check runs " + (command.empty() ? std::string("nothing") : command[0]) +
-              ", which image " + image.title + " does not carry");
+  if (container.liveness.empty()) problem("no liveness health check");
+  for (const bool liveness : {true, false}) {
+    const std::vector<std::string>& command = liveness ? container.liveness : container.readiness;
+    if (command.empty()) continue;
+    const std::string check = liveness ? "liveness check" : "readiness check";
+    if (!image.programs.count(command[0])) {
+      problem(check + " runs " + command[0] + ", which image " + image.title + " does not carry");
       continue;
     }
     if (command[0] != "loom-healthcheck") continue;
-    const std::string expected_role = binary == "loom-server" ? "server" : "worker";
+    const std::string expected_role = binary == "loom-server" ? "server" : liveness ? "worker-alive" : "worker";
     if (command.size() < 2 || command[1] != expected_role) {
-      problem("loom-healthcheck must check the " + expected_role);
+      problem(check + " must be loom-healthcheck " + expected_role);
       continue;
     }
-    if (expected_role == "worker") {
+    const std::vector<std::string> rest(command.begin() + 2, command.end());
+    if (expected_role == "worker-alive") {
+      // The file the running worker rewrites: the one its --alive-file names.
+      const auto alive_file = OptionValue(args, "--alive-file");
+      if (!alive_file) problem("loom-worker has no --alive-file for its liveness check to read");
+      if (rest.size() != 1 || rest[0] != alive_file.value_or("")) {
+        problem(check + " must read the worker's --alive-file " + alive_file.value_or("(none)"));
+      }
+    } else if (expected_role == "worker") {
       // `loom-healthcheck worker FLAGS` runs `loom-worker --probe FLAGS`: the probe
       // must ask for the device the worker itself uses.
-      const std::vector<std::string> flags(command.begin() + 2, command.end());
-      for (const std::string& bad : LoomBinary("loom-worker").Problems(flags)) problem("health check: " + bad);
-      if (HasFlag(flags, "--software") != HasFlag(args, "--software")) {
-        problem("the health check's --software differs from the worker's");
+      for (const std::string& bad : LoomBinary("loom-worker").Problems(rest)) problem(check + ": " + bad);
+      if (HasFlag(rest, "--software") != HasFlag(args, "--software")) {
+        problem("the " + check + "'s --software differs from the worker's");
       }
     }
   }

@@ -2,8 +2,9 @@
 // The checks a compose service and a Kubernetes container share: the image is one
 // deploy/docker/Dockerfile builds, at this version; every argument is one its
 // binary accepts; the server listens on, and workers reach it at, the server's
-// default port; health checks run programs the image carries, with the worker's
-// own --software choice.
+// default port; health checks run programs the image carries: a worker's liveness
+// check reads the alive file the worker writes, its readiness check asks for the
+// worker's own --software choice.
 
 #include <set>
 #include <string>
@@ -16,7 +17,11 @@ struct ContainerSpec {
   std::string image;                 // as written: "loom-server:0.1.0"
   bool has_args = false;             // false: the image's CMD applies
   std::vector<std::string> args;     // compose `command`, Kubernetes `args`
-  std::vector<std::vector<std::string>> health_commands;  // exec form, program first
+  // Health checks in exec form, program first. Liveness: compose's healthcheck, the
+  // image's HEALTHCHECK, Kubernetes' livenessProbe (required). Readiness: Kubernetes'
+  // readinessProbe (empty elsewhere).
+  std::vector<std::string> liveness;
+  std::vector<std::string> readiness;
   std::set<std::string> server_hosts;  // the names the server is reachable by here
 };
 

@@ -1,6 +1,7 @@
 // deploy/docker/Dockerfile against the code: what it copies exists, the runtime
 // packages provide every library the binaries link, the entry points' flags exist,
-// the port is the server's, the images run as a non-root user with a health check.
+// the port is the server's, the images run as a non-root user with a health check
+// (for the worker, a liveness check of the alive file its default command writes).
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,8 @@
 #include <sstream>
 
 #include "binary_options.h"
+#include "container_checks.h"
+#include "core/version.h"
 #include "deploy_files.h"
 #include "run_command.h"
 
@@ -174,6 +177,16 @@ TEST(Dockerfile, ImagesRunAsNonRootWithAHealthCheckTheyCarry) {
     ASSERT_FALSE(image.healthcheck.empty()) << title;
     EXPECT_TRUE(image.programs.count(image.healthcheck[0])) << title << " health check runs " << image.healthcheck[0];
     EXPECT_TRUE(std::filesystem::exists(DeployDir() / "docker" / image.healthcheck[0])) << image.healthcheck[0];
+  }
+}
+
+TEST(Dockerfile, ImagesRunWithTheirDefaultArgumentsAndHealthChecksMatchTheCode) {
+  for (const auto& [title, image] : LoomImages()) {
+    // As `docker run IMAGE` would: the image's CMD, its HEALTHCHECK, next to a server
+    // named loom-server (the CMD's default).
+    const ContainerSpec container{"Dockerfile image " + title, title + ":" + kVersion, false, {}, image.healthcheck,
+                                  {}, {"loom-server"}};
+    for (const std::string& problem : ContainerProblems(container)) ADD_FAILURE() << problem;
   }
 }
 

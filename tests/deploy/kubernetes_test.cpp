@@ -87,11 +87,11 @@ TEST_F(KubernetesTest, EveryContainerMatchesTheCode) {
     // `command` would replace the image's ENTRYPOINT (the binary the args are for).
     EXPECT_FALSE(container["command"]) << workload.Where();
     ContainerSpec spec{workload.Where(), container["image"].as<std::string>(), bool(container["args"]),
-                       workload.Args(), {}, service_names_};
+                       workload.Args(), {}, {}, service_names_};
     for (const char* probe : {"readinessProbe", "livenessProbe"}) {
       const YAML::Node command = At(container, {probe, "exec", "command"});
       EXPECT_TRUE(command) << workload.Where() << ": no exec " << probe;
-      if (command) spec.health_commands.push_back(Strings(command));
+      (std::string(probe) == "livenessProbe" ? spec.liveness : spec.readiness) = Strings(command);
     }
     for (const std::string& problem : ContainerProblems(spec)) ADD_FAILURE() << problem;
 

@@ -109,6 +109,10 @@ TEST(Systemd, WorkerTemplateRunsLoomWorkerAgainstTheServersPort) {
   const std::vector<std::string> args(words.begin() + 1, words.end());
   EXPECT_EQ(SplitAddress(OptionValue(args, "--server").value_or("")).port, DefaultServerPort());
   EXPECT_TRUE(OptionValue(args, "--token-file"));
+  // The liveness file lies in the unit's own runtime directory, which systemd makes
+  // writable under ProtectSystem=strict.
+  EXPECT_EQ(std::filesystem::path(OptionValue(args, "--alive-file").value_or("")).parent_path(),
+            "/run/" + std::regex_replace(Value(keys, "RuntimeDirectory"), std::regex("%i"), "1"));
   // What the unit's comments tell CPU-only machines to set in /etc/loom/worker.env.
   const std::vector<std::string> software = ExecStartWords(keys, {{"LOOM_WORKER_FLAGS", "--software"}});
   EXPECT_TRUE(LoomBinary("loom-worker").Problems({software.begin() + 1, software.end()}).empty());

@@ -38,6 +38,7 @@ TEST_F(AliveFileTest, MarkWritesOneJsonLineWithTimeStateAndPid) {
   const std::string text = ReadFile(path_);
   ASSERT_FALSE(text.empty());
   EXPECT_EQ(text.find('\n'), text.size() - 1) << text;
+  EXPECT_EQ(text.rfind(R"({"unix_time":)", 0), 0u) << text;  // the documented order, time first
   const nlohmann::json content = nlohmann::json::parse(text);
   EXPECT_EQ(content.at("unix_time").get<int64_t>(), 1'795'478'400);
   EXPECT_EQ(content.at("state").get<std::string>(), "waiting for work");
