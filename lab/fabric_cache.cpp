@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 #include "core/fit/fabric_asset.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/util/file_io.h"
@@ -32,20 +34,28 @@ CachedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::
     result.asset_bytes = DirectoryBytes(directory);
     // An asset stored by another tool has no timing file: its fit time is the best
     // figure left.
-    result.precompute_seconds = std::filesystem::exists(directory / kTimingFile)
-                                    ? nlohmann::json::parse(ReadFile(directory / kTimingFile)).at("seconds").get<double>()
-                                    : result.fit.seconds;
+    result.precompute_seconds = result.fit.seconds;
+    result.precompute_cpu_seconds = NAN;
+    if (std::filesystem::exists(directory / kTimingFile)) {
+      const nlohmann::json timing = nlohmann::json::parse(ReadFile(directory / kTimingFile));
+      result.precompute_seconds = timing.at("seconds").get<double>();
+      result.precompute_cpu_seconds = timing.value("cpu_seconds", NAN);
+    }
     return result;
   }
   ProgressBar bar("precompute " + fabric.key.substr(0, 8));
   const Stopwatch stopwatch;
+  const ProcessCpuStopwatch cpu;
   result.fit = PrecomputeFabric(fabric.fabric, fabric.settings,
                                 [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
   result.precompute_seconds = stopwatch.Seconds();
+  result.precompute_cpu_seconds = cpu.Seconds();
   if (!directory.empty()) {
     WriteFabricAsset(result.fit, fabric.settings, fabric.key, directory);
     result.asset_bytes = DirectoryBytes(directory);
-    WriteFileAtomic(directory / kTimingFile, nlohmann::json({{"seconds", result.precompute_seconds}}).dump());
+    WriteFileAtomic(directory / kTimingFile,
+                    nlohmann::json({{"seconds", result.precompute_seconds}, {"cpu_seconds", result.precompute_cpu_seconds}})
+                        .dump());
   }
   return result;
 }

@@ -43,7 +43,7 @@ const std::vector<std::string> kColumns = {
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
     "supersampling", "level_mode", "msaa_samples", "reference_samples",
-    "precompute_seconds", "asset_bytes", "frame_ms", "gpu_ms",
+    "precompute_seconds", "precompute_cpu_seconds", "asset_bytes", "frame_ms", "gpu_ms",
     "rmse", "psnr_db", "perceptual_error", "flicker", "load_average"};
 
 // The ground truth is drawn with its own seed, so a reference row at the same
@@ -182,7 +182,7 @@ class Sweep {
       frames.cpu_ms.push_back(frame.cpu_ms);
       frames.gpu_ms.push_back(frame.gpu_ms);
     }
-    Record(configuration, scene, configured, frames, cached.precompute_seconds, cached.asset_bytes);
+    Record(configuration, scene, configured, frames, cached);
   }
 
   // Runs `measure`; on an Error counts `scenes` as failed rows and says why.
@@ -215,7 +215,7 @@ class Sweep {
       frames.images.push_back(std::move(frame.image));
       frames.cpu_ms.push_back(frame.cpu_ms);
     }
-    Record(configuration, scene, configured, frames, 0.0, 0);
+    Record(configuration, scene, configured, frames, CachedFabric{});
   }
 
   // The reference of `scene` at the grid's ground-truth samples, rendered once
@@ -246,7 +246,7 @@ class Sweep {
   }
 
   void Record(const SweepConfiguration& configuration, const BenchScene& scene, const v1::SceneSpec& configured,
-              const Frames& frames, double precompute_seconds, uint64_t asset_bytes) {
+              const Frames& frames, const CachedFabric& precomputed) {
     const bool svbrdf = configuration.method == v1::RENDER_METHOD_SVBRDF;
     const ImageComparison error = CompareImages(frames.images.front(), GroundTruth(scene));
     const double flicker = frames.images.size() >= 2 ? TemporalFlicker(frames.images, 0, 0) : NAN;
@@ -266,7 +266,8 @@ class Sweep {
                      when_svbrdf(v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_"))),
                      when_svbrdf(std::to_string(render.msaa_samples())),
                      svbrdf ? std::string() : std::to_string(render.reference_samples()),
-                     Number(precompute_seconds), std::to_string(asset_bytes), Number(Fastest(frames.cpu_ms)),
+                     Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),
+                     std::to_string(precomputed.asset_bytes), Number(Fastest(frames.cpu_ms)),
                      svbrdf ? Number(Fastest(frames.gpu_ms)) : std::string(), Number(error.rmse),
                      Number(error.psnr_db), Number(1.0 - error.ssim), Number(flicker), Number(LoadAverage())});
     ++done_;

@@ -35,7 +35,7 @@ FabricKind ToKind(const std::string& field, const std::string& scene) {
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
   const auto column = [&](const char* name) { return table.Column(name); };
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
-               footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_seconds"),
+               footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_cpu_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),

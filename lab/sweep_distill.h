@@ -4,8 +4,9 @@
 // configuration (resolution, possibly with its supersampling; directions; lobes; LUT)
 // and renders like it, per class of scene — footprint class (of the row's measured
 // footprint, as the planner classifies a scene) and fabric kind (the row's
-// fabric_kind) — the mean and the worst PSNR change and the precompute-time and
-// asset-byte ratios over the scenes both measured. A class is given only where the
+// fabric_kind) — the mean and the worst PSNR change and the precompute CPU-time
+// (precompute_cpu_seconds: wall time grows with the machine's load, which changed
+// while the sweep ran) and asset-byte ratios over the scenes both measured. A class is given only where the
 // variation ran on every scene of the class the baseline ran on (the worst case of
 // part of a class says nothing of the rest). Rows whose image held NaN (PSNR not
 // finite) count as run but leave no figure, as the chart leaves them out.

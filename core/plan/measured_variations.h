@@ -40,7 +40,7 @@ struct MeasuredVariation {
   uint32_t supersampling = 0;
   double psnr_change_db = 0.0;        // mean over the class's scenes, minus the default's
   double worst_psnr_change_db = 0.0;  // the lowest over the class's scenes: what the planner budgets
-  double precompute_ratio = 1.0;  // mean precompute seconds over the default's
+  double precompute_ratio = 1.0;  // mean precompute CPU seconds over the default's
   double bytes_ratio = 1.0;
   int scenes = 0;                 // how many scenes the figures are over
 };

@@ -60,6 +60,7 @@ TEST(QuickSweep, MeasuresEveryRowAndChartsAParetoFront) {
     if (row[table.Column("method")] == "svbrdf") {
       ++svbrdf_rows;
       EXPECT_GT(Figure(table, row, "precompute_seconds"), 0.0);
+      EXPECT_GT(Figure(table, row, "precompute_cpu_seconds"), 0.0);
       EXPECT_GT(Figure(table, row, "asset_bytes"), 0.0);
       EXPECT_TRUE(std::isfinite(Figure(table, row, "gpu_ms")));
     }

@@ -13,7 +13,7 @@ namespace {
 CsvTable Table(std::vector<std::vector<std::string>> rows) {
   CsvTable table;
   table.columns = {"configuration", "scene",         "method",        "footprint_pixels", "fabric_kind", "psnr_db",
-                   "precompute_seconds", "asset_bytes", "spatial_resolution", "view_directions",
+                   "precompute_cpu_seconds", "asset_bytes", "spatial_resolution", "view_directions",
                    "light_directions",   "lobes",       "lookup_table",  "supersampling",    "level_mode",
                    "msaa_samples"};
   table.rows = std::move(rows);
