@@ -1,10 +1,10 @@
-cd "/work/wt-plan/docs/results/stockinette"
+cd "/work/main/docs/results/stockinette"
 set datafile missing 'nan'
 set logscale x
 set grid
 set terminal pngcairo noenhanced size 1400,600 font ',10'
 set output 'error_vs_frame_time.png'
-set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, res16, lobes3 on the same 4 scenes: error against frame time"
+set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, lobes3 on the same 4 scenes: error against frame time"
 set xlabel "frame time (ms, CPU wall, median over scenes, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -17,7 +17,7 @@ unset multiplot
 set output
 set terminal svg noenhanced size 1400,600 font ',10' background '#ffffff'
 set output 'error_vs_frame_time.svg'
-set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, res16, lobes3 on the same 4 scenes: error against frame time"
+set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, lobes3 on the same 4 scenes: error against frame time"
 set xlabel "frame time (ms, CPU wall, median over scenes, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -30,7 +30,7 @@ unset multiplot
 set output
 set terminal pngcairo noenhanced size 1400,600 font ',10'
 set output 'error_vs_precompute_time.png'
-set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, res16, lobes3 on the same 4 scenes: error against precompute time"
+set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, lobes3 on the same 4 scenes: error against precompute time"
 set xlabel "precompute time (s, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -43,7 +43,7 @@ unset multiplot
 set output
 set terminal svg noenhanced size 1400,600 font ',10' background '#ffffff'
 set output 'error_vs_precompute_time.svg'
-set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, res16, lobes3 on the same 4 scenes: error against precompute time"
+set multiplot layout 1,2 title "standard sweep, stockinette: every configuration incl. res64, res8, lobes3 on the same 4 scenes: error against precompute time"
 set xlabel "precompute time (s, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
