@@ -52,6 +52,9 @@ CachedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::
   result.precompute_cpu_seconds = cpu.Seconds();
   if (!directory.empty()) {
     WriteFabricAsset(result.fit, fabric.settings, fabric.key, directory);
+    // Render what was stored (half floats where the asset allows them), as every
+    // later run and every user does, not the full-precision fit in memory.
+    result.fit = ReadFabricAsset(directory);
     result.asset_bytes = DirectoryBytes(directory);
     WriteFileAtomic(directory / kTimingFile,
                     nlohmann::json({{"seconds", result.precompute_seconds}, {"cpu_seconds", result.precompute_cpu_seconds}})

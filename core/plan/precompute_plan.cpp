@@ -97,7 +97,11 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
                                     v.configuration.c_str(), v.spatial_resolution));
       continue;
     }
-    if (!(v.precompute_ratio < 1.0)) continue;  // saves nothing
+    if (!(v.precompute_ratio < 1.0)) {
+      plan.reasons.push_back(Format("not %s: measured precompute x%.3f of the defaults: saves nothing",
+                                    v.configuration.c_str(), v.precompute_ratio));
+      continue;
+    }
     candidates.push_back(&v);
   }
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto* a, const auto* b) {

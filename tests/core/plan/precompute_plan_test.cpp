@@ -123,6 +123,18 @@ TEST(PrecomputePlan, NeverGoesBelowTheResolutionTheFootprintCanShow) {
   EXPECT_EQ(fabric.settings.SerializeAsString(), WithDefaults(v1::PrecomputeSettings()).SerializeAsString());
 }
 
+TEST(PrecomputePlan, PassesOverAVariationThatSavesNothingAndSaysSo) {
+  const v1::SceneSpec scene = PlaneScene(50);  // far
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation dirs49 = Variation("dirs49", FootprintClass::kFar, 0.0, 1.03);  // measured under load
+  dirs49.directions = 49;
+  const FabricPlan fabric = PlanScene(scene, meshes, 0.5, {dirs49}).fabrics[0];
+  EXPECT_TRUE(fabric.chosen.empty());
+  bool said = false;
+  for (const std::string& reason : fabric.reasons) said |= reason.find("not dirs49: measured precompute x1.030") == 0;
+  EXPECT_TRUE(said);
+}
+
 TEST(PrecomputePlan, BudgetsTheWorstMeasuredSceneNotTheMean) {
   const v1::SceneSpec scene = PlaneScene(50);  // far
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
