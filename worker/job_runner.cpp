@@ -110,12 +110,13 @@ FittedFabric JobRunner::ReadAsset(const std::vector<NamedFile>& files) {
   return ReadFabricAsset(directory.path());
 }
 
-NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits) {
+NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits,
+                            const ReferenceProgress& progress) {
   const v1::SceneSpec scene = WithDefaults(job.scene());
   ValidateOrThrow(scene);
   const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes);
   const Image image = scene.render().method() == v1::RENDER_METHOD_REFERENCE
-                          ? ReferenceRenderer().Render(scene, geometry).image
+                          ? ReferenceRenderer().Render(scene, geometry, progress).image
                           : RenderScene(*renderer_, scene, geometry, fits).image;
   const bool exr = scene.render().format() == v1::IMAGE_FORMAT_EXR;
   const std::string name = exr ? "frame.exr" : "frame.png";

@@ -18,6 +18,7 @@
 
 #include "core/gl/egl_context.h"
 #include "core/precompute/fabric_precompute.h"
+#include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/job.pb.h"
@@ -53,8 +54,11 @@ class JobRunner {
   // The frame of `job`, encoded as its scene's format says (unspecified: PNG), by
   // the scene's method: svbrdf on the context, or the reference ray tracer.
   // `meshes` resolves uploaded mesh artifacts; for svbrdf, `fits` holds every
-  // fabric the scene names (core/render/scene_render.h).
-  NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits);
+  // fabric the scene names (core/render/scene_render.h). `progress` hears of the
+  // reference's pixel rows (an svbrdf frame takes too little time to report on);
+  // what it throws abandons the render.
+  NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits,
+                   const ReferenceProgress& progress = {});
 
  private:
   std::filesystem::path NewScratchPath(const std::string& stem);

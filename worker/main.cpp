@@ -69,8 +69,8 @@ int Main(int argc, char** argv) {
   app.add_option("--alive-file", alive_file,
                  "Liveness file: rewritten (one JSON line: unix_time, state, pid) whenever the worker's loop makes "
                  "progress, at least every --lease-wait seconds while idle, for `loom-healthcheck worker-alive` to "
-                 "check its age. A render reports no progress until it ends, so a probe's max age must exceed the "
-                 "longest render (svbrdf frames take seconds, a reference render can take minutes)");
+                 "check its age. A probe's max age must exceed the longest gap between marks: an svbrdf render reports "
+                 "nothing until it ends (seconds), a reference render every 1% of its pixel rows");
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
 
   worker::WorkerOptions options;

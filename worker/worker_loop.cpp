@@ -82,16 +82,16 @@ class WorkerLoop::Lease {
   const std::string& job_id() const { return job_id_; }
   uint64_t token() const { return token_; }
 
-  // Core's progress callback: records progress; throws JobInterrupted once the job
-  // must stop.
+  // Core's progress callback for a precompute: records progress; throws
+  // JobInterrupted once the job must stop.
   void Progress(double fraction, std::string_view stage) {
-    // The stage's name, not its counter: the alive state changes a few times a job.
-    loop_.MarkAlive("job " + job_id_ + ": " + std::string(StageName(stage)));
-    std::lock_guard lock(mu_);
-    if (StageName(stage) != StageName(progress_.stage())) log_.push_back(std::string(StageName(stage)));
-    progress_.set_fraction(fraction);
-    progress_.set_stage(std::string(stage));
-    if (interruption_ != Interruption::kNone) throw JobInterrupted{};
+    if (Record(fraction, stage) != Interruption::kNone) throw JobInterrupted{};
+  }
+  // The same for a render, which runs to the end when the worker is stopping: only
+  // a cancel or a lost lease abandons it.
+  void RenderProgress(double fraction, std::string_view stage) {
+    const Interruption why = Record(fraction, stage);
+    if (why == Interruption::kCancelled || why == Interruption::kLeaseLost) throw JobInterrupted{};
   }
   void Log(std::string line) {
     std::lock_guard lock(mu_);
@@ -111,6 +111,18 @@ class WorkerLoop::Lease {
   }
 
  private:
+  // Records progress for the next heartbeat and marks the worker alive; returns
+  // why the job must stop, if it must.
+  Interruption Record(double fraction, std::string_view stage) {
+    // The stage's name, not its counter: the alive state changes a few times a job.
+    loop_.MarkAlive("job " + job_id_ + ": " + std::string(StageName(stage)));
+    std::lock_guard lock(mu_);
+    if (StageName(stage) != StageName(progress_.stage())) log_.push_back(std::string(StageName(stage)));
+    progress_.set_fraction(fraction);
+    progress_.set_stage(std::string(stage));
+    return interruption_;
+  }
+
   void HeartbeatLoop() {
     std::unique_lock lock(mu_);
     while (!wake_.wait_for(lock, loop_.heartbeat_interval_, [this] { return done_; })) {
@@ -284,7 +296,10 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
     }
     return DownloadForJob(*stub_, mesh.artifact());
   };
-  return {timed([&] { return runner.Render(job.render(), meshes, fitted); })};
+  return {timed([&] {
+    return runner.Render(job.render(), meshes, fitted,
+                         [&lease](double fraction, std::string_view stage) { lease.RenderProgress(fraction, stage); });
+  })};
 }
 
 void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased) {

@@ -399,7 +399,8 @@ class Tracer {
 
 ReferenceRenderer::ReferenceRenderer(unsigned threads) : threads_(ResolveThreadCount(threads)) {}
 
-ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes) const {
+ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                                         const ReferenceProgress& progress) const {
   const Stopwatch stopwatch;
   const v1::RenderSettings& settings = scene.render();
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
@@ -455,6 +456,8 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
       for (int c = 0; c < 3; ++c) frame.image.at(x, y, c) = mean[c];
       frame.image.at(x, y, 3) = 1.0f;
     }
+  }, [&](size_t rows_done) {
+    if (progress) progress(static_cast<double>(rows_done) / static_cast<double>(height), "rendering");
   });
   frame.rays = rays.Total();
   frame.cpu_ms = stopwatch.Milliseconds();

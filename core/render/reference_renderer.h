@@ -60,6 +60,8 @@
 //   objects ambient · base colour.
 
 #include <cstdint>
+#include <functional>
+#include <string_view>
 #include <vector>
 
 #include "core/image/image.h"
@@ -67,6 +69,10 @@
 #include "loom/v1/scene.pb.h"
 
 namespace loom {
+
+// Called on the calling thread as pixel rows finish (fraction in [0, 1]); what it
+// throws abandons the render and is rethrown from Render.
+using ReferenceProgress = std::function<void(double fraction, std::string_view stage)>;
 
 struct ReferenceFrame {
   Image image;          // linear radiance, RGBA (alpha 1)
@@ -81,7 +87,8 @@ class ReferenceRenderer {
 
   // `scene` with defaults applied and validated; `meshes` = BuildSceneGeometry(scene).
   // Objects with a fabric are cloth. Throws Error(kInternal) if Embree fails.
-  ReferenceFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes) const;
+  ReferenceFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                        const ReferenceProgress& progress = {}) const;
 
  private:
   unsigned threads_;

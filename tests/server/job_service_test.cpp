@@ -181,6 +181,31 @@ TEST_F(ServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARend
   EXPECT_EQ(alive->threads.size(), 1u);
 }
 
+// A reference render can take minutes and reports its pixel rows: the worker's
+// liveness (and its lease's progress, which the server's stuck check reads) moves
+// while it runs.
+TEST_F(ServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
+  ServerOptions options;
+  options.local_workers = 1;
+  const auto alive = std::make_shared<AliveStates>();
+  options.local_worker.alive = [alive](std::string_view state) {
+    std::lock_guard lock(alive->mu);
+    alive->states.emplace_back(state);
+  };
+  StartServer(options);
+  client::JobClient client = Client();
+  v1::SceneSpec scene = TinyScene(16, 12);
+  scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
+  scene.mutable_render()->set_reference_samples(1);
+  const std::string render = client.Submit(RenderRequest(scene)).job().id();
+  const v1::Job done = WaitUntilEnded(client, render);
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  std::lock_guard lock(alive->mu);
+  EXPECT_NE(std::find(alive->states.begin(), alive->states.end(), "job " + render + ": rendering"),
+            alive->states.end())
+      << ::testing::PrintToString(alive->states);
+}
+
 TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) {
   StartServer();
   client::JobClient client = Client();

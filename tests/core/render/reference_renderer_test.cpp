@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <glm/gtc/constants.hpp>
+#include <algorithm>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
@@ -152,6 +155,32 @@ TEST(ReferenceRenderer, FramesAreBitIdenticalWhateverTheThreadCount) {
   const ReferenceFrame two = RenderJson(scene, 2);
   EXPECT_EQ(one.image.pixels, two.image.pixels);
   EXPECT_EQ(one.rays, two.rays);
+}
+
+// A long reference render reports progress (so a worker's lease and liveness see
+// it move) on the calling thread, rising to 1; throwing from it abandons the render.
+TEST(ReferenceRenderer, ProgressRisesToOneOnTheCallingThreadAndThrowingAbandons) {
+  const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(ClothScene(0.0f, false, 24, 1), "scene"));
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<double> fractions;
+  ReferenceRenderer(2).Render(scene, meshes, [&](double fraction, std::string_view stage) {
+    EXPECT_EQ(std::this_thread::get_id(), caller);
+    EXPECT_EQ(stage, "rendering");
+    fractions.push_back(fraction);
+  });
+  ASSERT_GE(fractions.size(), 2u);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_EQ(fractions.back(), 1.0);
+
+  struct Abandoned {};
+  int calls = 0;
+  EXPECT_THROW(ReferenceRenderer(2).Render(scene, meshes,
+                                           [&](double, std::string_view) {
+                                             if (++calls == 2) throw Abandoned{};
+                                           }),
+               Abandoned);
+  EXPECT_EQ(calls, 2);
 }
 
 }  // namespace
