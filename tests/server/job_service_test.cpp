@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <set>
@@ -132,16 +133,21 @@ struct AliveStates {
   std::set<std::thread::id> threads;
 };
 
+// A local worker's alive callback that records each state and the thread marking it.
+std::function<void(std::string_view)> RecordInto(std::shared_ptr<AliveStates> alive) {
+  return [alive](std::string_view state) {
+    std::lock_guard lock(alive->mu);
+    alive->states.emplace_back(state);
+    alive->threads.insert(std::this_thread::get_id());
+  };
+}
+
 TEST_F(ServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARender) {
   ServerOptions options;
   options.local_workers = 1;
   // Shared: the local worker goes on marking until the server stops, after the test body.
   const auto alive = std::make_shared<AliveStates>();
-  options.local_worker.alive = [alive](std::string_view state) {
-    std::lock_guard lock(alive->mu);
-    alive->states.emplace_back(state);
-    alive->threads.insert(std::this_thread::get_id());
-  };
+  options.local_worker.alive = RecordInto(alive);
   StartServer(options);
   client::JobClient client = Client();
   const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(TinyScene(16, 12)));
@@ -188,10 +194,7 @@ TEST_F(ServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
   ServerOptions options;
   options.local_workers = 1;
   const auto alive = std::make_shared<AliveStates>();
-  options.local_worker.alive = [alive](std::string_view state) {
-    std::lock_guard lock(alive->mu);
-    alive->states.emplace_back(state);
-  };
+  options.local_worker.alive = RecordInto(alive);
   StartServer(options);
   client::JobClient client = Client();
   v1::SceneSpec scene = TinyScene(16, 12);
