@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <functional>
 #include <future>
 #include <mutex>
 #include <set>
@@ -133,22 +132,26 @@ struct AliveStates {
   std::set<std::thread::id> threads;
 };
 
-// A local worker's alive callback that records each state and the thread marking it.
-std::function<void(std::string_view)> RecordInto(std::shared_ptr<AliveStates> alive) {
-  return [alive](std::string_view state) {
-    std::lock_guard lock(alive->mu);
-    alive->states.emplace_back(state);
-    alive->threads.insert(std::this_thread::get_id());
-  };
-}
+// A server whose one local worker records each alive state and the thread marking it.
+class AliveServiceTest : public ServiceTest {
+ protected:
+  void SetUp() override {
+    ServerOptions options;
+    options.local_workers = 1;
+    options.local_worker.alive = [alive = alive_](std::string_view state) {
+      std::lock_guard lock(alive->mu);
+      alive->states.emplace_back(state);
+      alive->threads.insert(std::this_thread::get_id());
+    };
+    StartServer(options);
+  }
 
-TEST_F(ServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARender) {
-  ServerOptions options;
-  options.local_workers = 1;
   // Shared: the local worker goes on marking until the server stops, after the test body.
-  const auto alive = std::make_shared<AliveStates>();
-  options.local_worker.alive = RecordInto(alive);
-  StartServer(options);
+  const std::shared_ptr<AliveStates> alive_ = std::make_shared<AliveStates>();
+};
+
+TEST_F(AliveServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARender) {
+  const std::shared_ptr<AliveStates>& alive = alive_;
   client::JobClient client = Client();
   const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(TinyScene(16, 12)));
   ASSERT_EQ(submitted.dependencies_size(), 1);
@@ -190,12 +193,8 @@ TEST_F(ServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAndARend
 // A reference render can take minutes and reports its pixel rows: the worker's
 // liveness (and its lease's progress, which the server's stuck check reads) moves
 // while it runs.
-TEST_F(ServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
-  ServerOptions options;
-  options.local_workers = 1;
-  const auto alive = std::make_shared<AliveStates>();
-  options.local_worker.alive = RecordInto(alive);
-  StartServer(options);
+TEST_F(AliveServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
+  const std::shared_ptr<AliveStates>& alive = alive_;
   client::JobClient client = Client();
   v1::SceneSpec scene = TinyScene(16, 12);
   scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
