@@ -86,8 +86,10 @@ SqliteDb::SqliteDb(const std::filesystem::path& path) {
   }
   if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
     ::close(lock_fd_);
-    throw Error(ErrorCode::kUnavailable, path.string() +
-                                             " is in use by another process (one loom-server per data directory)");
+    // Not kUnavailable (exit 4, "no GL, server unreachable"): the directory is in a
+    // state this server cannot start in until the other one stops (exit 5).
+    throw Error(ErrorCode::kFailedPrecondition,
+                path.string() + " is in use by another process (one loom-server per data directory)");
   }
   const int rc = sqlite3_open_v2(path.c_str(), &db_,
                                  SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);

@@ -501,7 +501,7 @@ TEST_F(JobQueueTest, SurvivesKillDashNineOfTheServer) {
 }
 
 TEST_F(JobQueueTest, SecondQueueOnTheSameDataDirectoryIsRefused) {
-  EXPECT_LOOM_ERROR(JobQueue(dir_, clock_), ErrorCode::kUnavailable, "in use by another process");
+  EXPECT_LOOM_ERROR(JobQueue(dir_, clock_), ErrorCode::kFailedPrecondition, "in use by another process");
   queue_->Submit(Render());  // the first one is unaffected
   EXPECT_EQ(CountJobs(), 1);
 }
