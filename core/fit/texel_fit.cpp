@@ -348,10 +348,8 @@ void TexelSamples::Push(glm::vec3 light, glm::vec3 view, uint32_t view_index, gl
 }
 
 void TexelSamples::Add(glm::vec3 light, glm::vec3 view, uint32_t view_index, glm::vec3 radiance) {
-  Push(light, view, view_index, radiance, 1.0);
-  ++raw_count_;
-  raw_weight_ += 1.0;
-  radiance_sum_ += glm::dvec3(radiance);
+  constexpr float kFullCoverage = 1.0f;
+  AddPooled(light, view, view_index, std::span(&radiance, 1), std::span(&kFullCoverage, 1));
 }
 
 void TexelSamples::AddPooled(glm::vec3 light, glm::vec3 view, uint32_t view_index,
