@@ -3,6 +3,7 @@
 #include <map>
 
 #include "core/util/error.h"
+#include "loom/v1/job_state.h"
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
 #include "rpc/artifact_transfer.h"
@@ -25,10 +26,6 @@ Response Call(v1::LoomService::Stub& stub, Method method, const Request& request
 }
 
 }  // namespace
-
-bool IsTerminal(v1::JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
 
 JobClient::JobClient(std::shared_ptr<grpc::Channel> channel)
     : channel_(std::move(channel)), stub_(v1::LoomService::NewStub(channel_)) {}

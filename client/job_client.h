@@ -53,7 +53,4 @@ class JobClient {
   std::unique_ptr<v1::LoomService::Stub> stub_;
 };
 
-// True for SUCCEEDED, FAILED and CANCELLED.
-bool IsTerminal(v1::JobState state);
-
 }  // namespace loom::client

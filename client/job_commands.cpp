@@ -9,6 +9,7 @@
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 #include "loom/v1/job.pb.h"
+#include "loom/v1/job_state.h"
 
 namespace loom::client {
 namespace {

@@ -13,6 +13,7 @@
 #include "core/spec/fabric_key.h"
 #include "core/spec/validate.h"
 #include "core/util/error.h"
+#include "loom/v1/job_state.h"
 
 namespace loom::server {
 namespace {

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/util/error.h"
+#include "loom/v1/job_state.h"
 #include "server/store/artifact_store.h"
 #include "server/store/sqlite_db.h"
 
@@ -133,10 +134,6 @@ void AddColumnIfMissing(SqliteDb& db, const std::string& table, const std::strin
 }
 
 }  // namespace
-
-bool IsTerminal(JobState state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
-}
 
 // The mutable columns of one job row, read in one query.
 struct JobQueue::Row {

@@ -87,9 +87,6 @@ enum class Failure {
   kPermanent,  // bad input (the spec does not validate, a mesh does not parse): FAILED now
 };
 
-// SUCCEEDED, FAILED or CANCELLED: the job will not change again.
-bool IsTerminal(v1::JobState state);
-
 struct JobFilter {
   std::vector<v1::JobState> states;  // empty: any state
   std::vector<v1::JobKind> kinds;    // empty: any kind
