@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
-usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB]
+usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB] | tables.py seeds SEEDS_CSV SWEEP_CSV
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, statistics, sys
@@ -106,8 +106,33 @@ def plan(path, budget=0.5):
               f"{num(d['asset_bytes']) / 1024:.0f} → {num(p['asset_bytes']) / 1024:.0f} (×{r['b']:.2f}) | "
               f"{num(d['psnr_db']):.2f} → {num(p['psnr_db']):.2f} | {r['change']:+.2f} | {'yes' if r['within'] else '**no**'} |")
 
+SEEDS = ("seed2", "seed3")
+VARIATIONS = ("res8-ss8", "res16-ss4", "res16", "dirs49", "dirs36", "lobes1", "lut-off", "dirs16")
+
+def changes(path, configs, distance):
+    """PSNR change against the CSV's defaults of `configs`' rows at `distance`."""
+    table = rows(path)
+    base = {r["scene"]: num(r["psnr_db"]) for r in table if r["configuration"] == "default"}
+    return [num(r["psnr_db"]) - base[r["scene"]] for r in table
+            if r["configuration"] in configs and r["distance"] == distance and r["scene"] in base
+            and math.isfinite(num(r["psnr_db"])) and math.isfinite(base[r["scene"]])]
+
+def seeds(seeds_path, sweep_path):
+    """How far PSNR moves against the defaults, per distance: under another seed
+    (bench/sweep_seeds.json: nothing but the rays changes) and under each of the
+    planner's variations (the standard sweep)."""
+    print("| against the defaults | distance | scenes | mean abs. PSNR change dB | largest abs. change dB | changes beyond 0.5 dB |")
+    print("|---|---|---|---|---|---|")
+    for label, path, configs in [("another seed (seed2, seed3)", seeds_path, SEEDS)] + [(v, sweep_path, (v,)) for v in VARIATIONS]:
+        for d in ("near", "mid", "far"):
+            a = [abs(x) for x in changes(path, configs, d)]
+            if a:
+                print(f"| {label} | {d} | {len(a) // len(configs)} | {statistics.mean(a):.2f} | {max(a):.2f} | {sum(x > 0.5 for x in a)} of {len(a)} |")
+
 if __name__ == "__main__":
     if sys.argv[1] == "sweep":
         sweep(sys.argv[2])
+    elif sys.argv[1] == "seeds":
+        seeds(sys.argv[2], sys.argv[3])
     else:
         plan(sys.argv[2], float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)
