@@ -3,9 +3,9 @@
 #include <map>
 
 #include "core/util/error.h"
-#include "loom/v1/job_state.h"
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
+#include "loom/v1/job_state.h"
 #include "rpc/artifact_transfer.h"
 #include "rpc/channel.h"
 #include "rpc/status.h"

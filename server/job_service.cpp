@@ -3,8 +3,8 @@
 #include <chrono>
 
 #include "core/util/error.h"
-#include "loom/v1/job_state.h"
 #include "core/version.h"
+#include "loom/v1/job_state.h"
 #include "rpc/artifact_transfer.h"
 #include "server/artifact_upload.h"
 #include "server/call_guard.h"

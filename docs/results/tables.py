@@ -109,9 +109,8 @@ def plan(path, budget=0.5):
 SEEDS = ("seed2", "seed3")
 VARIATIONS = ("res8-ss8", "res16-ss4", "res16", "dirs49", "dirs36", "lobes1", "lut-off", "dirs16")
 
-def changes(path, configs, distance):
-    """PSNR change against the CSV's defaults of `configs`' rows at `distance`."""
-    table = rows(path)
+def changes(table, configs, distance):
+    """PSNR change against the table's defaults of `configs`' rows at `distance`."""
     base = {r["scene"]: num(r["psnr_db"]) for r in table if r["configuration"] == "default"}
     return [num(r["psnr_db"]) - base[r["scene"]] for r in table
             if r["configuration"] in configs and r["distance"] == distance and r["scene"] in base
@@ -123,9 +122,10 @@ def seeds(seeds_path, sweep_path):
     planner's variations (the standard sweep)."""
     print("| against the defaults | distance | scenes | mean abs. PSNR change dB | largest abs. change dB | changes beyond 0.5 dB |")
     print("|---|---|---|---|---|---|")
-    for label, path, configs in [("another seed (seed2, seed3)", seeds_path, SEEDS)] + [(v, sweep_path, (v,)) for v in VARIATIONS]:
+    seeded, swept = rows(seeds_path), rows(sweep_path)
+    for label, table, configs in [("another seed (seed2, seed3)", seeded, SEEDS)] + [(v, swept, (v,)) for v in VARIATIONS]:
         for d in ("near", "mid", "far"):
-            a = [abs(x) for x in changes(path, configs, d)]
+            a = [abs(x) for x in changes(table, configs, d)]
             if a:
                 print(f"| {label} | {d} | {len(a) // len(configs)} | {statistics.mean(a):.2f} | {max(a):.2f} | {sum(x > 0.5 for x in a)} of {len(a)} |")
 

@@ -1,6 +1,6 @@
 #pragma once
-// Facts about the schema's job states that the server, the worker and the
-// client all need; kept beside job.proto so that no side restates them.
+// Facts about the schema's job states that the server and the client both
+// need; kept beside job.proto so that neither restates them.
 
 #include "loom/v1/job.pb.h"
 
