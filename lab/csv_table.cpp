@@ -88,4 +88,19 @@ CsvTable ReadCsv(const std::filesystem::path& path) {
   }
 }
 
+CsvTable ReadCsvs(const std::vector<std::filesystem::path>& paths) {
+  CsvTable all;
+  for (const std::filesystem::path& path : paths) {
+    CsvTable table = ReadCsv(path);
+    if (all.columns.empty()) {
+      all.columns = std::move(table.columns);
+    } else if (table.columns != all.columns) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  path.string() + ": its columns differ from " + paths.front().string() + "'s");
+    }
+    for (auto& row : table.rows) all.rows.push_back(std::move(row));
+  }
+  return all;
+}
+
 }  // namespace loom::lab

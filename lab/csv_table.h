@@ -26,5 +26,9 @@ std::string CsvLine(const std::vector<std::string>& fields);
 // header's.
 CsvTable ParseCsv(const std::string& text, size_t* complete_bytes = nullptr);
 CsvTable ReadCsv(const std::filesystem::path& path);
+// The rows of several CSVs with the same columns, in order (a sweep and its
+// repeats under other seeds); Error(kInvalidArgument) naming the file whose columns
+// differ from the first's.
+CsvTable ReadCsvs(const std::vector<std::filesystem::path>& paths);
 
 }  // namespace loom::lab

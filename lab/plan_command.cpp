@@ -1,8 +1,10 @@
 // loom-lab plan: the least precompute that serves a scene (core/plan/precompute_plan.h),
-// and what it chose and why. `--distill CSV` turns a sweep CSV into the table the
-// planner is compiled with (core/plan/standard_sweep_table.inc).
+// and what it chose and why. `--distill CSV...` turns a sweep's CSVs into the table
+// the planner is compiled with (core/plan/standard_sweep_table.inc).
 
 #include <cstdio>
+#include <filesystem>
+#include <vector>
 
 #include "core/plan/precompute_plan.h"
 #include "core/spec/defaults.h"
@@ -66,7 +68,8 @@ void PrintPlan(const ScenePlan& plan) {
 
 LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string scene, sweep, distill;
+    std::string scene;
+    std::vector<std::filesystem::path> sweep, distill;
     double budget = kDefaultErrorBudgetDb;
   };
   auto options = std::make_shared<Options>();
@@ -76,12 +79,14 @@ LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--error-budget", options->budget,
                       "PSNR (dB) the plan may lose against the default settings (default 0.5)");
   command->add_option("--sweep", options->sweep,
-                      "Plan from this sweep CSV instead of the measurements compiled in");
+                      "Plan from these sweep CSVs (a sweep and its repeats under other seeds) instead of the "
+                      "measurements compiled in");
   command->add_option("--distill", options->distill,
-                      "Print a sweep CSV's measured variations as the compiled-in table (C++), plan nothing");
+                      "Print the measured variations of these sweep CSVs (a sweep and its repeats under other "
+                      "seeds) as the compiled-in table (C++), plan nothing");
   return {command, [&flags, options] {
             if (!options->distill.empty()) {
-              std::fputs(VariationsAsCpp(DistillSweep(ReadCsv(options->distill))).c_str(), stdout);
+              std::fputs(VariationsAsCpp(DistillSweep(ReadCsvs(options->distill))).c_str(), stdout);
               return 0;
             }
             if (options->scene.empty()) throw Error(ErrorCode::kInvalidArgument, "scene: a scene file is required");
@@ -90,7 +95,7 @@ LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags) {
             const auto meshes =
                 BuildSceneGeometry(scene, FileMeshResolver(std::filesystem::path(options->scene).parent_path()));
             const std::vector<MeasuredVariation> variations =
-                options->sweep.empty() ? StandardSweepVariations() : DistillSweep(ReadCsv(options->sweep));
+                options->sweep.empty() ? StandardSweepVariations() : DistillSweep(ReadCsvs(options->sweep));
             const ScenePlan plan = PlanScene(scene, meshes, options->budget, variations);
             if (flags.json) {
               PrintJson(PlanJson(plan));

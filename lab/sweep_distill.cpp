@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "core/util/error.h"
@@ -16,10 +17,46 @@ struct Measured {
   double footprint = NAN;
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
-  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa;
+  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa, seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
+
+// What a row was fitted and rendered with, as far as the CSV says, its seed left out.
+std::string Settings(const Measured& m) {
+  return m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
+         m.supersampling + ',' + m.level_mode + ',' + m.msaa;
+}
+
+// Every row takes the mean figures over the seeds measured on its scene with its
+// settings (see the header). A seed measured twice (the defaults are in the sweep
+// and in its repeats) counts once.
+void AverageRepeats(std::map<std::string, std::map<std::string, Measured>>& rows) {
+  // (scene, settings) → seed → a row of it
+  std::map<std::pair<std::string, std::string>, std::map<std::string, const Measured*>> repeats;
+  for (const auto& [configuration, scenes] : rows) {
+    for (const auto& [scene, m] : scenes) repeats[{scene, Settings(m)}].emplace(m.seed, &m);
+  }
+  std::map<std::pair<std::string, std::string>, Measured> means;
+  for (const auto& [key, by_seed] : repeats) {
+    Measured mean = *by_seed.begin()->second;
+    mean.psnr = mean.precompute = mean.bytes = 0.0;
+    for (const auto& [seed, m] : by_seed) {
+      mean.psnr += m->psnr / by_seed.size();
+      mean.precompute += m->precompute / by_seed.size();
+      mean.bytes += m->bytes / by_seed.size();
+    }
+    means.emplace(key, mean);
+  }
+  for (auto& [configuration, scenes] : rows) {
+    for (auto& [scene, m] : scenes) {
+      const Measured& mean = means.at({scene, Settings(m)});
+      m.psnr = mean.psnr;
+      m.precompute = mean.precompute;
+      m.bytes = mean.bytes;
+    }
+  }
+}
 
 FabricKind ToKind(const std::string& field, const std::string& scene) {
   const std::optional<FabricKind> kind = ParseFabricKind(field);
@@ -39,7 +76,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
-               msaa = column("msaa_samples");
+               msaa = column("msaa_samples"), seed = column("seed");
   // configuration → scene → figures, in order of first appearance.
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, Measured>> rows;
@@ -50,8 +87,10 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                             ToNumber(row[psnr]), ToNumber(row[precompute]),
                                             ToNumber(row[bytes]), row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
-                                            row[supersampling], row[level],         row[msaa]};
+                                            row[supersampling], row[level],         row[msaa],
+                                            row[seed]};
   }
+  AverageRepeats(rows);
   if (!rows.contains(baseline)) {
     throw Error(ErrorCode::kInvalidArgument, "sweep CSV has no svbrdf rows of the baseline configuration '" +
                                                  baseline + "'");
@@ -61,8 +100,15 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   std::map<SceneClass, int> base_scenes;
   for (const auto& [scene_name, b] : base) ++base_scenes[{ClassifyFootprint(b.footprint), b.kind}];
   std::vector<MeasuredVariation> variations;
+  // A configuration all of whose rows repeat an earlier one's (the same scene and
+  // settings under another seed) is in that one's figures already.
+  std::set<std::pair<std::string, std::string>> measured;  // (scene, settings)
+  for (const auto& [scene_name, b] : base) measured.insert({scene_name, Settings(b)});
   for (const std::string& name : order) {
     if (name == baseline) continue;
+    bool repeat = true;
+    for (const auto& [scene_name, m] : rows.at(name)) repeat &= !measured.insert({scene_name, Settings(m)}).second;
+    if (repeat) continue;
     struct Sums {
       double psnr_change = 0, precompute = 0, base_precompute = 0, bytes = 0, base_bytes = 0;
       double worst_psnr_change = std::numeric_limits<double>::infinity();

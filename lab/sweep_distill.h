@@ -10,6 +10,13 @@
 // variation ran on every scene of the class the baseline ran on (the worst case of
 // part of a class says nothing of the rest). Rows whose image held NaN (PSNR not
 // finite) count as run but leave no figure, as the chart leaves them out.
+//
+// Repeats. Rows of one scene whose settings columns all agree but for the seed
+// (which picks acquisition's ray jitter) measure the same figure: each stands for
+// the mean PSNR, precompute time and bytes over the seeds measured (a seed found
+// twice counts once), the baseline and the variations alike. Far away one fit's PSNR moves by about 0.5 dB with the
+// seed, as much as the planner's budget (docs/results/plan.md), so a single fit
+// there says more about its draw than about its settings.
 
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
-usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB] | tables.py seeds SEEDS_CSV SWEEP_CSV
+usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CSV...]] | tables.py seeds SEEDS_CSV SWEEP_CSV
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, statistics, sys
@@ -64,8 +64,25 @@ def sweep(path):
                          f"{med(col('flicker'), '%.3f')} / {med(col('frame_ms'), '%.0f')}")
         print(f"| {label} | {n} | " + " | ".join(cells) + " |")
 
-def plan(path, budget=0.5):
+SETTINGS = ("spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
+            "supersampling", "level_mode", "msaa_samples")
+
+def seed_means(tables):
+    """(scene, settings) → mean PSNR over the distinct seeds in `tables`, as
+    loom-lab plan --distill takes repeats (lab/sweep_distill.h)."""
+    by_seed = {}
+    for table in tables:
+        for r in table:
+            if r["method"] == "svbrdf":
+                by_seed.setdefault((r["scene"],) + tuple(r[k] for k in SETTINGS), {})[r["seed"]] = num(r["psnr_db"])
+    return {key: (statistics.mean(v.values()), len(v)) for key, v in by_seed.items()}
+
+def plan(path, budget=0.5, repeat_paths=()):
+    """Plan against defaults per scene; with repeat CSVs (the same settings under
+    other seeds), also the change of the seed means."""
     table = rows(path)
+    means = seed_means([table] + [rows(p) for p in repeat_paths])
+    mean_of = lambda r: means[(r["scene"],) + tuple(r[k] for k in SETTINGS)]
     by = {}
     for r in table:
         by.setdefault(r["scene"], {})[r["configuration"]] = r
@@ -74,13 +91,20 @@ def plan(path, budget=0.5):
     for s in scenes:
         d, p = by[s]["default"], by[s]["plan"]
         change = num(p["psnr_db"]) - num(d["psnr_db"])
-        rec.append(dict(scene=s, fabric=d["fabric"], d=d, p=p, change=change,
+        (dm, dn), (pm, pn) = mean_of(d), mean_of(p)
+        rec.append(dict(scene=s, fabric=d["fabric"], d=d, p=p, change=change, mean_change=pm - dm, seeds=(dn, pn),
                         within=math.isfinite(change) and change >= -budget - 1e-9,
+                        mean_within=math.isfinite(pm - dm) and pm - dm >= -budget - 1e-9,
                         t=num(p["precompute_cpu_seconds"]) / num(d["precompute_cpu_seconds"]),
                         b=num(p["asset_bytes"]) / num(d["asset_bytes"])))
     n = len(rec)
     ch = finite([r["change"] for r in rec])
     print(f"| plan within the {budget} dB budget (PSNR ≥ default − {budget} dB) | **{sum(r['within'] for r in rec)} of {n}** |")
+    if repeat_paths:
+        mch = finite([r["mean_change"] for r in rec])
+        several = sum(min(r["seeds"]) > 1 for r in rec)
+        print(f"| the same, PSNR the mean over the seeds measured ({several} scenes with more than one seed of both) | "
+              f"**{sum(r['mean_within'] for r in rec)} of {n}** (median change {statistics.median(mch):+.2f} dB, worst {min(mch):+.2f}) |")
     print(f"| plan's asset smaller | **{sum(r['b'] < 1 for r in rec)} of {n}** (median ×{statistics.median([r['b'] for r in rec]):.2f}, worst ×{max(r['b'] for r in rec):.2f}) |")
     print(f"| plan's precompute CPU time smaller | {sum(r['t'] < 1 for r in rec)} of {n} (median ×{statistics.median([r['t'] for r in rec]):.2f}, worst ×{max(r['t'] for r in rec):.2f}) |")
     print(f"| median PSNR change | {statistics.median(ch):+.2f} dB (mean {statistics.mean(ch):+.2f}, worst {min(ch):+.2f}, best {max(ch):+.2f}) |")
@@ -96,15 +120,16 @@ def plan(path, budget=0.5):
         print(f"| {f} | {sum(r['within'] for r in mine)} of {len(mine)} | {statistics.median([r['change'] for r in mine]):+.2f} dB | "
               f"{min(r['change'] for r in mine):+.2f} dB | ×{statistics.median([r['t'] for r in mine]):.3f} | ×{statistics.median([r['b'] for r in mine]):.3f} |")
     print()
-    print("| scene | tile px | plan: texels, directions, lobes, LUT, ss | precompute CPU s default → plan | bytes KiB default → plan | PSNR dB default → plan | change | within 0.5 dB |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| scene | tile px | plan: texels, directions, lobes, LUT, ss | precompute CPU s default → plan | bytes KiB default → plan | PSNR dB default → plan | change | within 0.5 dB | change of seed means (seeds) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rec:
         d, p = r["d"], r["p"]
         print(f"| {r['scene']} | {d['footprint_pixels'] and '%.0f' % num(d['footprint_pixels'])} | "
               f"{p['spatial_resolution']}, {p['view_directions']}, {p['lobes']}, {'on' if p['lookup_table'] == '1' else 'off'}, {p['supersampling']} | "
               f"{num(d['precompute_cpu_seconds']):.1f} → {num(p['precompute_cpu_seconds']):.1f} (×{r['t']:.2f}) | "
               f"{num(d['asset_bytes']) / 1024:.0f} → {num(p['asset_bytes']) / 1024:.0f} (×{r['b']:.2f}) | "
-              f"{num(d['psnr_db']):.2f} → {num(p['psnr_db']):.2f} | {r['change']:+.2f} | {'yes' if r['within'] else '**no**'} |")
+              f"{num(d['psnr_db']):.2f} → {num(p['psnr_db']):.2f} | {r['change']:+.2f} | {'yes' if r['within'] else '**no**'} | "
+              f"{r['mean_change']:+.2f} ({r['seeds'][0]}, {r['seeds'][1]}) |")
 
 SEEDS = ("seed2", "seed3")
 VARIATIONS = ("res8-ss8", "res16-ss4", "res16", "dirs49", "dirs36", "lobes1", "lut-off", "dirs16")
@@ -135,4 +160,4 @@ if __name__ == "__main__":
     elif sys.argv[1] == "seeds":
         seeds(sys.argv[2], sys.argv[3])
     else:
-        plan(sys.argv[2], float(sys.argv[3]) if len(sys.argv) > 3 else 0.5)
+        plan(sys.argv[2], float(sys.argv[3]) if len(sys.argv) > 3 else 0.5, sys.argv[4:])

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "core/util/error.h"
+#include "core/util/file_io.h"
 
 namespace loom::lab {
 namespace {
@@ -15,7 +17,7 @@ CsvTable Table(std::vector<std::vector<std::string>> rows) {
   table.columns = {"configuration", "scene",         "method",        "footprint_pixels", "fabric_kind", "psnr_db",
                    "precompute_cpu_seconds", "asset_bytes", "spatial_resolution", "view_directions",
                    "light_directions",   "lobes",       "lookup_table",  "supersampling",    "level_mode",
-                   "msaa_samples"};
+                   "msaa_samples",       "seed"};
   table.rows = std::move(rows);
   return table;
 }
@@ -23,12 +25,14 @@ CsvTable Table(std::vector<std::vector<std::string>> rows) {
 // One svbrdf row: `settings` = resolution, views, lights, lobes, LUT, supersampling.
 std::vector<std::string> Row(const std::string& configuration, const std::string& scene, double footprint,
                              double psnr, double seconds, double bytes, std::vector<std::string> settings,
-                             const std::string& level = "TRILINEAR", const std::string& kind = "knit-matte") {
+                             const std::string& level = "TRILINEAR", const std::string& kind = "knit-matte",
+                             const std::string& seed = "0") {
   std::vector<std::string> row = {configuration, scene, "svbrdf", std::to_string(footprint), kind, std::to_string(psnr),
                                   std::to_string(seconds), std::to_string(bytes)};
   row.insert(row.end(), settings.begin(), settings.end());
   row.push_back(level);
   row.push_back("4");
+  row.push_back(seed);
   return row;
 }
 
@@ -103,6 +107,54 @@ TEST(SweepDistill, GivesAClassOnlyWhereTheVariationRanOnAllOfIt) {
   const std::vector<MeasuredVariation> variations = DistillSweep(table);
   ASSERT_EQ(variations.size(), 1u);
   EXPECT_EQ(variations[0].footprint, FootprintClass::kFar);
+}
+
+TEST(SweepDistill, TakesRepeatsUnderOtherSeedsAsOneFigureTheirMean) {
+  const CsvTable table = Table({
+      Row("default", "knit.a", 2, 20, 10, 100, kDefault),
+      Row("default", "knit.b", 2, 24, 10, 100, kDefault),
+      Row("lobes1", "knit.a", 2, 19, 5, 90, kLobes1),
+      Row("lobes1", "knit.b", 2, 21, 5, 90, kLobes1),
+      // The same settings under another seed, and a seed measured twice:
+      Row("seed2", "knit.a", 2, 22, 12, 100, kDefault, "TRILINEAR", "knit-matte", "2"),
+      Row("lobes1-seed2", "knit.a", 2, 20, 7, 90, kLobes1, "TRILINEAR", "knit-matte", "2"),
+      Row("default-again", "knit.a", 2, 20, 10, 100, kDefault),
+  });
+  const std::vector<MeasuredVariation> variations = DistillSweep(table);
+  ASSERT_EQ(variations.size(), 1u);  // the repeats are no variations of their own
+  EXPECT_EQ(variations[0].configuration, "lobes1");
+  // knit.a: (19 + 20)/2 − (20 + 22)/2 = −1.5; knit.b: 21 − 24 = −3.
+  EXPECT_NEAR(variations[0].psnr_change_db, -2.25, 1e-9);
+  EXPECT_NEAR(variations[0].worst_psnr_change_db, -3.0, 1e-9);
+  // (6 + 5) / (11 + 10) over the two scenes.
+  EXPECT_NEAR(variations[0].precompute_ratio, 11.0 / 21.0, 1e-9);
+}
+
+TEST(SweepDistill, ReadsASweepWithItsRepeatsFromSeveralFiles) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "distill_csvs";
+  std::filesystem::create_directories(dir);
+  const CsvTable first = Table({Row("default", "knit.a", 2, 20, 10, 100, kDefault),
+                                Row("lobes1", "knit.a", 2, 19, 5, 90, kLobes1)});
+  CsvTable second = Table({Row("seed2", "knit.a", 2, 22, 10, 100, kDefault, "TRILINEAR", "knit-matte", "2")});
+  auto write = [&](const CsvTable& table, const std::string& name) {
+    std::string text = CsvLine(table.columns);
+    for (const auto& row : table.rows) text += CsvLine(row);
+    WriteFileAtomic(dir / name, text);
+  };
+  write(first, "sweep.csv");
+  write(second, "seeds.csv");
+  const std::vector<MeasuredVariation> variations = DistillSweep(ReadCsvs({dir / "sweep.csv", dir / "seeds.csv"}));
+  ASSERT_EQ(variations.size(), 1u);
+  EXPECT_NEAR(variations[0].psnr_change_db, -2.0, 1e-9);
+
+  second.columns.back() = "ray_seed";
+  write(second, "other.csv");
+  try {
+    ReadCsvs({dir / "sweep.csv", dir / "other.csv"});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("other.csv: its columns differ from"), std::string::npos);
+  }
 }
 
 TEST(SweepDistill, RejectsAnUnknownFabricKindNamingIt) {
