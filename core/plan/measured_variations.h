@@ -8,7 +8,8 @@
 // (core/plan/precompute_plan.h) chooses from these.
 //
 // StandardSweepVariations() is compiled in, distilled from the committed
-// docs/results/sweep.csv by `loom-lab plan --distill docs/results/sweep.csv`
+// docs/results/sweep.csv and its repeats under other seeds (seeds.csv,
+// far_seeds.csv; a figure is the mean over its seeds) by `loom-lab plan --distill`
 // (lab/sweep_distill.h), so the server plans without reading files.
 
 #include <cstdint>
