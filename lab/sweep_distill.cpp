@@ -37,20 +37,21 @@ void AverageRepeats(std::map<std::string, std::map<std::string, Measured>>& rows
   for (const auto& [configuration, scenes] : rows) {
     for (const auto& [scene, m] : scenes) repeats[{scene, Settings(m)}].emplace(m.seed, &m);
   }
-  std::map<std::pair<std::string, std::string>, Measured> means;
+  struct Means {
+    double psnr = 0, precompute = 0, bytes = 0;
+  };
+  std::map<std::pair<std::string, std::string>, Means> means;
   for (const auto& [key, by_seed] : repeats) {
-    Measured mean = *by_seed.begin()->second;
-    mean.psnr = mean.precompute = mean.bytes = 0.0;
+    Means& mean = means[key];
     for (const auto& [seed, m] : by_seed) {
       mean.psnr += m->psnr / by_seed.size();
       mean.precompute += m->precompute / by_seed.size();
       mean.bytes += m->bytes / by_seed.size();
     }
-    means.emplace(key, mean);
   }
   for (auto& [configuration, scenes] : rows) {
     for (auto& [scene, m] : scenes) {
-      const Measured& mean = means.at({scene, Settings(m)});
+      const Means& mean = means.at({scene, Settings(m)});
       m.psnr = mean.psnr;
       m.precompute = mean.precompute;
       m.bytes = mean.bytes;
