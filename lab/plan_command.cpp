@@ -78,9 +78,12 @@ LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("scene", options->scene, "Scene spec file (JSON)");
   command->add_option("--error-budget", options->budget,
                       "PSNR (dB) the plan may lose against the default settings (default 0.5)");
-  command->add_option("--sweep", options->sweep,
-                      "Plan from these sweep CSVs (a sweep and its repeats under other seeds) instead of the "
-                      "measurements compiled in");
+  // One CSV per --sweep (repeat it for more), so that the scene may come after.
+  command
+      ->add_option("--sweep", options->sweep,
+                   "Plan from this sweep CSV instead of the measurements compiled in; repeat for a sweep's "
+                   "repeats under other seeds")
+      ->allow_extra_args(false);
   command->add_option("--distill", options->distill,
                       "Print the measured variations of these sweep CSVs (a sweep and its repeats under other "
                       "seeds) as the compiled-in table (C++), plan nothing");

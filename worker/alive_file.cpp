@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <exception>
+#include <system_error>
 
 #include "core/util/file_io.h"
 
@@ -16,6 +17,12 @@ constexpr std::chrono::seconds kMinInterval{1};
 }  // namespace
 
 AliveFile::AliveFile(std::filesystem::path path, Clock clock) : path_(std::move(path)), clock_(std::move(clock)) {}
+
+AliveFile::~AliveFile() {
+  if (!last_write_) return;
+  std::error_code error;  // a file that is gone already, or cannot go, is no reason to fail an exit
+  std::filesystem::remove(path_, error);
+}
 
 void AliveFile::Mark(std::string_view state) {
   std::lock_guard lock(mu_);

@@ -10,7 +10,9 @@
 // written at once, so that the file never shows a stale state (say "waiting for work"
 // through a long render that started a moment after it). The loop's states change a
 // few times per job, not per progress report. A write that fails is logged once and
-// never stops the worker.
+// never stops the worker. On a clean exit (destruction) the file is removed, so that
+// a worker restarted on the same path reads as not alive until it marks progress,
+// not as alive on its predecessor's last word.
 
 #include <chrono>
 #include <filesystem>
@@ -28,6 +30,10 @@ class AliveFile {
 
   // Writes nothing until the first Mark. Tests inject `clock`.
   explicit AliveFile(std::filesystem::path path, Clock clock = [] { return std::chrono::system_clock::now(); });
+  // Removes the file if this object wrote it.
+  ~AliveFile();
+  AliveFile(const AliveFile&) = delete;
+  AliveFile& operator=(const AliveFile&) = delete;
 
   // Thread-safe. Rewrites the file with `state` unless it was written less than a
   // second ago with the same state.

@@ -69,6 +69,19 @@ TEST_F(AliveFileTest, AChangedStateIsWrittenAtOnce) {
   EXPECT_FALSE(std::filesystem::exists(path_));
 }
 
+TEST_F(AliveFileTest, ACleanExitRemovesTheFileItWrote) {
+  {
+    AliveFile alive(dir_ / "exiting.alive", [this] { return now_; });
+    alive.Mark("waiting for work");
+    ASSERT_TRUE(std::filesystem::exists(dir_ / "exiting.alive"));
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "exiting.alive"));
+  // One that never marked leaves alone what is there (another worker's file, say).
+  WriteFileAtomic(dir_ / "other.alive", "{}\n");
+  { AliveFile unmarked(dir_ / "other.alive", [this] { return now_; }); }
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "other.alive"));
+}
+
 TEST_F(AliveFileTest, AnUnwritablePathDoesNotThrow) {
   // A regular file where the directory should be: fails for root too.
   WriteFileAtomic(dir_ / "not-a-directory", "");
