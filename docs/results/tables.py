@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
 usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CSV...]] | tables.py seeds SEEDS_CSV SWEEP_CSV
+       | tables.py variations DISTANCE FABRIC_KIND CSV...
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
-import csv, math, statistics, sys
+import csv, math, re, statistics, sys
 
 def rows(path):
     with open(path) as f:
@@ -154,10 +155,42 @@ def seeds(seeds_path, sweep_path):
             if a:
                 print(f"| {label} | {d} | {len(a) // len(configs)} | {statistics.mean(a):.2f} | {max(a):.2f} | {sum(x > 0.5 for x in a)} of {len(a)} |")
 
+def variations(distance, kind, paths):
+    """Per scene at `distance` of fabric kind `kind` (all kinds: "any"), the
+    defaults' seed mean and each variation's change of seed means, and per
+    variation the worst: what the planner budgets, as loom-lab plan --distill
+    takes it. A configuration named NAME-seedN is NAME under another seed; seedN
+    alone is the defaults."""
+    base = lambda name: re.sub(r"-?seed\d+$", "", name) or "default"
+    psnr = {}
+    for path in paths:
+        for r in rows(path):
+            if r["method"] == "svbrdf" and r["distance"] == distance and kind in ("any", r["fabric_kind"]):
+                psnr.setdefault(r["scene"], {}).setdefault(base(r["configuration"]), {})[r["seed"]] = num(r["psnr_db"])
+    shown = [v for v in VARIATIONS if any(v in by for by in psnr.values())]
+    print("| scene | defaults dB: mean (seeds) | " + " | ".join(f"`{v}`" for v in shown) + " |")
+    print("|---|---|" + "---|" * len(shown))
+    worst = {v: math.inf for v in shown}
+    for scene in sorted(psnr):
+        by = psnr[scene]
+        d = statistics.mean(by["default"].values())
+        cells = []
+        for v in shown:
+            if v in by:
+                change = statistics.mean(by[v].values()) - d
+                worst[v] = min(worst[v], change)
+                cells.append(f"{change:+.2f} ({len(by[v])})")
+            else:
+                cells.append("–")
+        print(f"| {scene} | {d:.2f} ({len(by['default'])}) | " + " | ".join(cells) + " |")
+    print("| **worst** | | " + " | ".join(f"**{worst[v]:+.2f}**" for v in shown) + " |")
+
 if __name__ == "__main__":
     if sys.argv[1] == "sweep":
         sweep(sys.argv[2])
     elif sys.argv[1] == "seeds":
         seeds(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "variations":
+        variations(sys.argv[2], sys.argv[3], sys.argv[4:])
     else:
         plan(sys.argv[2], float(sys.argv[3]) if len(sys.argv) > 3 else 0.5, sys.argv[4:])
