@@ -31,6 +31,9 @@ void CheckOptions(const ServerOptions& options) {
     throw Error(ErrorCode::kInvalidArgument, "--tls-cert and --tls-key go together");
   }
   if (options.local_workers < 0) throw Error(ErrorCode::kInvalidArgument, "--local-workers: must be >= 0");
+  if (!(options.result_retention_seconds >= 0 && options.result_retention_seconds <= 365.0 * 86'400)) {
+    throw Error(ErrorCode::kInvalidArgument, "--result-retention-seconds: must be in [0, 31536000] (a year)");
+  }
   if (options.lease_seconds <= 0 || options.stuck_seconds <= 0) {
     throw Error(ErrorCode::kInvalidArgument, "--lease-seconds and --stuck-seconds: must be > 0");
   }
@@ -78,6 +81,7 @@ LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
   CheckOptions(options_);
   std::filesystem::create_directories(options_.data_dir);
   store_ = std::make_unique<Store>(options_);
+  store_->state.result_retention_ms = static_cast<int64_t>(options_.result_retention_seconds * 1000);
 
   grpc::ServerBuilder builder;
   // gRPC sets SO_REUSEPORT by default: a second server on a port in use would
@@ -121,11 +125,18 @@ LoomServer::~LoomServer() { Shutdown(); }
 std::string LoomServer::address() const { return "127.0.0.1:" + std::to_string(port_); }
 
 void LoomServer::TimerLoop() {
+  // Result retention is kept to the minute: each pass reads every pinned job.
+  constexpr int kTicksPerRetentionPass = 60;
   std::unique_lock lock(mu_);
-  while (!wake_.wait_for(lock, 1s, [this] { return stopping_; })) {
+  for (int tick = 1; !wake_.wait_for(lock, 1s, [this] { return stopping_; }); ++tick) {
     lock.unlock();
     try {
       if (const int ended = store_->queue.RequeueExpired()) spdlog::warn("{} expired or stuck lease(s) ended", ended);
+      if (tick % kTicksPerRetentionPass == 0) {
+        if (const int released = ReleaseExpiredResults(store_->state)) {
+          spdlog::info("{} finished job(s)' frames past their retention, now evictable", released);
+        }
+      }
       for (const std::string& key : store_->cache.Evict()) spdlog::info("fabric {} evicted (cache budget)", key);
     } catch (const std::exception& error) {
       spdlog::error("lease timer: {}", error.what());

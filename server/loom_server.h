@@ -1,10 +1,11 @@
 #pragma once
 // loom-server assembled: the store under the data directory, both gRPC services on
 // one port (TLS when a certificate is given, message-size caps), a timer that ends
-// expired and stuck leases and keeps the cache under its budget, and N local
-// workers. Local workers are worker/worker_loop.h on an in-process channel of the
-// same server: the same WorkerService calls, token included, as a remote worker's,
-// without depending on the listening address (wildcard, TLS name).
+// expired and stuck leases, releases frames past their retention and keeps the
+// cache under its budget, and N local workers. Local workers are
+// worker/worker_loop.h on an in-process channel of the same server: the same
+// WorkerService calls, token included, as a remote worker's, without depending on
+// the listening address (wildcard, TLS name).
 //
 // Shutdown order: stop taking jobs (health "draining"), stop the local workers
 // (renders finish, precomputes are handed back), wake long polls, stop the gRPC
@@ -35,6 +36,9 @@ struct ServerOptions {
   std::string listen = "127.0.0.1:7450";
   int local_workers = 1;
   uint64_t cache_bytes = 0;  // 0: no budget
+  // A finished render's frames are kept from eviction this long after the job
+  // ends (server/service_state.h); 0: not at all.
+  double result_retention_seconds = 86'400;
   uint32_t max_attempts = 3;
   double lease_seconds = 30;
   double stuck_seconds = 600;

@@ -41,6 +41,10 @@ int Main(int argc, char** argv) {
   app.add_option("--cache-bytes", options.cache_bytes,
                  "Artifact and fabric cache budget in bytes, least recently used evicted first (0: no limit)")
       ->capture_default_str();
+  app.add_option("--result-retention-seconds", options.result_retention_seconds,
+                 "A finished render's frames are kept from eviction this long after the job ends, budget or not "
+                 "(0: they are ordinary cache entries)")
+      ->capture_default_str();
   app.add_option("--max-attempts", options.max_attempts,
                  "Attempts per job before it fails (a worker that failed a job gets it again only when no other "
                  "live worker can take it; bad input fails at once; a SIGTERM hand-back uses none)")

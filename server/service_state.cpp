@@ -5,7 +5,9 @@
 #include <iomanip>
 #include <random>
 #include <sstream>
+#include <string_view>
 
+#include "core/util/error.h"
 #include "server/job_submission.h"
 
 namespace loom::server {
@@ -36,6 +38,37 @@ ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCach
   queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
     if (kind == v1::JOB_KIND_RENDER) artifacts.UnpinAll(JobPinOwner(id));
   });
+}
+
+namespace {
+constexpr std::string_view kResultPinPrefix = "result:";
+}  // namespace
+
+std::string JobResultPinOwner(const std::string& job_id) { return std::string(kResultPinPrefix) + job_id; }
+
+void PinJobResults(ServiceState& state, const std::string& job_id, const std::vector<std::string>& hashes) {
+  if (state.result_retention_ms <= 0) return;
+  for (const std::string& hash : hashes) state.artifacts.Pin(hash, JobResultPinOwner(job_id));
+}
+
+int ReleaseExpiredResults(ServiceState& state) {
+  const int64_t now = state.clock.NowMs();
+  int released = 0;
+  for (const std::string& owner : state.artifacts.PinOwners(kResultPinPrefix)) {
+    const std::string job_id = owner.substr(kResultPinPrefix.size());
+    try {
+      const v1::Job job = state.queue.Get(job_id);
+      // Pinned before the job ended: it ends with this attempt or, if that fails,
+      // with a later one; until then finished_ms is 0 and the pin stays.
+      const int64_t finished = job.timings().finished_ms();
+      if (finished == 0 || now - finished < state.result_retention_ms) continue;
+    } catch (const Error& error) {
+      if (error.code() != ErrorCode::kNotFound) throw;
+    }
+    state.artifacts.UnpinAll(owner);
+    ++released;
+  }
+  return released;
 }
 
 }  // namespace loom::server

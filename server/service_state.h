@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "loom/v1/service.pb.h"
 #include "server/store/artifact_store.h"
@@ -43,6 +44,20 @@ struct ServiceState {
   bool tls;
   WorkerRegistry workers;
   std::atomic<bool> draining{false};
+  // --result-retention-seconds: how long a finished render's frames are kept from
+  // eviction after the job ends (0: not at all, they are ordinary cache entries).
+  int64_t result_retention_ms = 86'400'000;
 };
+
+// Frames. A render's result artifacts are pinned as "result:<job id>" when its
+// worker completes it, before the job reads SUCCEEDED, so that no eviction (a small
+// --cache-bytes, a busy farm) takes a frame its client has not fetched yet; the pins
+// go result_retention_ms after the job ended. A job that no longer exists releases
+// its pins at once.
+std::string JobResultPinOwner(const std::string& job_id);
+// Pins `hashes` for job `job_id` (nothing if the retention is 0).
+void PinJobResults(ServiceState& state, const std::string& job_id, const std::vector<std::string>& hashes);
+// Releases the pins of results whose retention has passed; returns how many jobs'.
+int ReleaseExpiredResults(ServiceState& state);
 
 }  // namespace loom::server

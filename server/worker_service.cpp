@@ -150,7 +150,18 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (manifest_json.empty()) throw Error(ErrorCode::kInvalidArgument, "artifacts: no manifest.json");
       state_.cache.Put(job.fabric_key(), files, manifest_json);
     }
-    const v1::Job ended = state_.queue.Complete(id, request->fencing_token(), hashes, request->run_ms());
+    // A render's frames are kept until their client can have fetched them
+    // (service_state.h), pinned before the job reads SUCCEEDED; a completion the
+    // queue refuses (a lost lease) takes its pins back.
+    const bool keep_results = job.kind() == v1::JOB_KIND_RENDER && !job.cancel_requested();
+    if (keep_results) PinJobResults(state_, id, hashes);
+    v1::Job ended;
+    try {
+      ended = state_.queue.Complete(id, request->fencing_token(), hashes, request->run_ms());
+    } catch (...) {
+      if (keep_results) state_.artifacts.UnpinAll(JobResultPinOwner(id));
+      throw;
+    }
     spdlog::info("job {}: {} by {}", id, v1::JobState_Name(ended.state()), request->worker_id());
     if (job.kind() == v1::JOB_KIND_PRECOMPUTE) state_.cache.Evict();
   });

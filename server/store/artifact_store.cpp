@@ -311,6 +311,17 @@ void ArtifactStore::UnpinAll(std::string_view owner) {
   db_->Run("DELETE FROM artifact_pins WHERE owner = ?", owner);
 }
 
+std::vector<std::string> ArtifactStore::PinOwners(std::string_view prefix) {
+  std::lock_guard lock(mu_);
+  std::vector<std::string> owners;
+  for (auto query = db_->Query("SELECT DISTINCT owner FROM artifact_pins WHERE substr(owner, 1, ?) = ? ORDER BY owner",
+                               static_cast<int64_t>(prefix.size()), prefix);
+       query.Step();) {
+    owners.push_back(query.Text(0));
+  }
+  return owners;
+}
+
 void ArtifactStore::Remove(std::string_view hash) {
   CheckArtifactHash(hash);
   std::lock_guard lock(mu_);

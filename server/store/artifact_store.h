@@ -13,8 +13,9 @@
 // file times. Evict() removes least recently used artifacts until the total fits the
 // byte budget; an artifact with at least one pin is never evicted. Pins are named by
 // an owner and idempotent, so a retried or repeated Pin/Unpin is harmless: the
-// FabricCache pins its fabrics' files as "fabric:<key>"; the server can pin a render
-// job's meshes as "job:<id>" until the job ends.
+// FabricCache pins its fabrics' files as "fabric:<key>"; the server pins a render
+// job's meshes as "job:<id>" until the job ends and its frames as "result:<id>" for
+// a while after (server/service_state.h).
 //
 // Bad hashes (empty, wrong length, not lowercase hex) are kInvalidArgument.
 // Thread-safe; one process per data directory.
@@ -107,6 +108,8 @@ class ArtifactStore {
   void Unpin(std::string_view hash, std::string_view owner);
   // Drops every pin held by `owner`.
   void UnpinAll(std::string_view owner);
+  // The owners holding a pin whose name starts with `prefix`, each once, sorted.
+  std::vector<std::string> PinOwners(std::string_view prefix);
 
   // Deletes an unpinned artifact (kFailedPrecondition if pinned, kNotFound if absent).
   void Remove(std::string_view hash);

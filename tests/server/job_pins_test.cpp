@@ -1,13 +1,16 @@
 // A render job's meshes stay pinned (kept from eviction) while the job may still
 // run, and are released however it ends, including the endings that happen inside
 // the queue: the last attempt's lease expiring, a failed dependency, a cancel, a
-// restart voiding the last attempt's lease.
+// restart voiding the last attempt's lease. Its frames are pinned when its worker
+// completes it and stay so for the result retention after it ended.
 
+#include <grpcpp/server_context.h>
 #include <gtest/gtest.h>
 
 #include "core/util/error.h"
 #include "server/job_submission.h"
 #include "server/service_state.h"
+#include "server/worker_service.h"
 #include "tests/server/store/store_test_util.h"
 #include "tests/server/tiny_specs.h"
 
@@ -57,6 +60,26 @@ class JobPinsTest : public ::testing::Test {
   }
   bool MeshPinned() { return Pinned(artifacts_, mesh_); }
 
+  // Leases render job `id` and completes it through the WorkerService call a worker
+  // makes, with one uploaded frame; returns the frame's hash.
+  std::string CompleteWithAFrame(const std::string& id, const std::string& frame_bytes) {
+    const std::optional<JobLease> lease = queue_.Lease("w1");
+    EXPECT_TRUE(lease.has_value() && lease->job.id() == id);
+    const std::string frame = artifacts_.Put(frame_bytes);
+    v1::CompleteJobRequest request;
+    request.set_job_id(id);
+    request.set_fencing_token(lease ? lease->token : 0);
+    v1::ArtifactRef* artifact = request.add_artifacts();
+    artifact->set_name("frame.png");
+    artifact->set_sha256(frame);
+    WorkerService workers(state_);
+    grpc::ServerContext context;
+    v1::CompleteJobResponse response;
+    const grpc::Status status = workers.CompleteJob(&context, &request, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    return frame;
+  }
+
   std::filesystem::path dir_;
   FakeClock clock_;
   ArtifactStore artifacts_;
@@ -90,6 +113,45 @@ TEST_F(JobPinsTest, ReleasedWhenCancelled) {
   EXPECT_TRUE(MeshPinned());
   EXPECT_EQ(queue_.Cancel(id).state(), v1::JOB_STATE_CANCELLED);
   EXPECT_FALSE(MeshPinned());
+}
+
+TEST_F(JobPinsTest, AFinishedRendersFramesAreKeptForTheRetentionThenReleased) {
+  state_.result_retention_ms = 3'600'000;
+  const std::string id = SubmitRenderWithMesh(5, v1::RENDER_METHOD_REFERENCE).job().id();
+  const std::string frame = CompleteWithAFrame(id, "frame 5");
+  ASSERT_EQ(queue_.Get(id).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_FALSE(MeshPinned());  // the job's inputs go when it ends, its frames stay
+  EXPECT_EQ(artifacts_.PinOwners("result:"), std::vector<std::string>{JobResultPinOwner(id)});
+  clock_.Advance(3'599'999);
+  EXPECT_EQ(ReleaseExpiredResults(state_), 0);
+  EXPECT_TRUE(Pinned(artifacts_, frame));
+  clock_.Advance(1);
+  EXPECT_EQ(ReleaseExpiredResults(state_), 1);
+  EXPECT_TRUE(artifacts_.PinOwners("result:").empty());
+  EXPECT_FALSE(Pinned(artifacts_, frame));  // an ordinary cache entry again (removed here)
+}
+
+TEST_F(JobPinsTest, AFrameTwoJobsRenderedIsKeptUntilTheLaterRetentionEnds) {
+  state_.result_retention_ms = 1'000;
+  const std::string first = SubmitRenderWithMesh(6, v1::RENDER_METHOD_REFERENCE).job().id();
+  const std::string frame = CompleteWithAFrame(first, "the same frame");
+  clock_.Advance(600);
+  const std::string second = SubmitRenderWithMesh(7, v1::RENDER_METHOD_REFERENCE).job().id();
+  EXPECT_EQ(CompleteWithAFrame(second, "the same frame"), frame);
+  clock_.Advance(400);
+  EXPECT_EQ(ReleaseExpiredResults(state_), 1);  // the first job's
+  EXPECT_TRUE(Pinned(artifacts_, frame));
+  clock_.Advance(600);
+  EXPECT_EQ(ReleaseExpiredResults(state_), 1);
+  EXPECT_FALSE(Pinned(artifacts_, frame));
+}
+
+TEST_F(JobPinsTest, NoRetentionPinsNoFrames) {
+  state_.result_retention_ms = 0;
+  const std::string id = SubmitRenderWithMesh(8, v1::RENDER_METHOD_REFERENCE).job().id();
+  const std::string frame = CompleteWithAFrame(id, "frame 8");
+  ASSERT_EQ(queue_.Get(id).state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_FALSE(Pinned(artifacts_, frame));
 }
 
 TEST(JobPinsRestartTest, ReleasedWhenARestartVoidsTheLastAttemptsLease) {

@@ -82,6 +82,24 @@ TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
   std::filesystem::remove_all(options.data_dir);
 }
 
+TEST_F(ServiceTest, ABadResultRetentionIsRefusedNamingTheFlagAndItsLimits) {
+  for (const double seconds : {-1.0, 366.0 * 86'400}) {
+    ServerOptions options;
+    options.data_dir = data_dir_.string() + "-retention";
+    options.listen = "127.0.0.1:0";
+    options.local_workers = 0;
+    options.result_retention_seconds = seconds;
+    try {
+      LoomServer server(options);
+      FAIL() << "a server started with --result-retention-seconds " << seconds;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+      EXPECT_THAT(e.what(), HasSubstr("--result-retention-seconds: must be in [0, 31536000]"));
+    }
+    EXPECT_FALSE(std::filesystem::exists(options.data_dir));  // refused before anything is stored
+  }
+}
+
 // A render whose fabric comes without precompute settings gets the least
 // precompute that serves it (core/plan): the dependency fits what the plan chose,
 // and the stored scene names those settings for the worker.
