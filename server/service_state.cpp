@@ -58,8 +58,8 @@ int ReleaseExpiredResults(ServiceState& state) {
     const std::string job_id = owner.substr(kResultPinPrefix.size());
     try {
       const v1::Job job = state.queue.Get(job_id);
-      // Pinned before the job ended: it ends with this attempt or, if that fails,
-      // with a later one; until then finished_ms is 0 and the pin stays.
+      // Not ended yet (between the pin and the completion, or a server stopped
+      // there, whose restart requeues the job): kept until it ends.
       const int64_t finished = job.timings().finished_ms();
       if (finished == 0 || now - finished < state.result_retention_ms) continue;
     } catch (const Error& error) {
