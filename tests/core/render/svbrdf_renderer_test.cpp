@@ -272,6 +272,9 @@ TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {
   EXPECT_NEAR(grey(RenderCloth(ClothScene(16, false, 1, "LEVEL_MODE_NEAREST"), data)), 0.1f, 1e-5f);
   // 32 tiles: λ = 1 between levels 0 and 2 for trilinear too.
   EXPECT_NEAR(grey(RenderCloth(ClothScene(32, false, 1, "LEVEL_MODE_TRILINEAR"), data)), 0.2f, 2e-3f);
+  // Seen head-on the footprint is round: anisotropic shades once, where trilinear does.
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(32, false, 1, "LEVEL_MODE_ANISOTROPIC"), data)), 0.2f, 2e-3f);
+  EXPECT_NEAR(grey(RenderCloth(ClothScene(64, false, 1, "LEVEL_MODE_ANISOTROPIC"), data)), 0.3f, 2e-3f);
 }
 
 }  // namespace
