@@ -131,11 +131,20 @@ ShaderProgram ShaderProgram::Link(const std::vector<ShaderStage>& stages) {
   return ShaderProgram(program);
 }
 
-ShaderProgram ShaderProgram::FromEmbedded(std::string_view base) {
+ShaderProgram ShaderProgram::FromEmbedded(std::string_view base, std::string_view defines) {
+  // After the #version line, which must come first; #line keeps the file's numbering.
+  const auto with_defines = [defines](std::string_view text) {
+    std::string out(text);
+    if (defines.empty()) return out;
+    const size_t first_line = out.find('\n');
+    if (first_line == std::string::npos) throw Error(ErrorCode::kInternal, "shader without a #version line");
+    out.insert(first_line + 1, std::string(defines) + "#line 2 0\n");
+    return out;
+  };
   const std::string vertex = std::string(base) + ".vert";
   const std::string fragment = std::string(base) + ".frag";
-  return Link({{GL_VERTEX_SHADER, vertex, std::string(FindEmbedded(vertex))},
-               {GL_FRAGMENT_SHADER, fragment, std::string(FindEmbedded(fragment))}});
+  return Link({{GL_VERTEX_SHADER, vertex, with_defines(FindEmbedded(vertex))},
+               {GL_FRAGMENT_SHADER, fragment, with_defines(FindEmbedded(fragment))}});
 }
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {

@@ -21,8 +21,10 @@ struct ShaderStage {
 class ShaderProgram {
  public:
   static ShaderProgram Link(const std::vector<ShaderStage>& stages);
-  // Links "<base>.vert" and "<base>.frag" from the embedded shaders.
-  static ShaderProgram FromEmbedded(std::string_view base);
+  // Links "<base>.vert" and "<base>.frag" from the embedded shaders, each with
+  // `defines` ("#define NAME\n" lines) after its #version line: a variant compiled
+  // apart, so that code one variant needs costs the other nothing.
+  static ShaderProgram FromEmbedded(std::string_view base, std::string_view defines = {});
 
   ShaderProgram(ShaderProgram&& other) noexcept : program_(other.program_) { other.program_ = 0; }
   ShaderProgram& operator=(ShaderProgram&& other) noexcept;

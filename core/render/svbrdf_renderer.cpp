@@ -78,19 +78,30 @@ int MsaaSamples(const v1::RenderSettings& settings) {
   return limit;
 }
 
-}  // namespace
-
 // Texture units: the shadow maps and a fabric's two textures. Samplers of
 // different types may not share a unit in a draw, even when a branch leaves one
 // unused, so the fabric units are fixed once.
 constexpr int kShadowUnit = 0;
 constexpr int kFabricUnit = 1;
 
+// The scene program with its texture units fixed (or one of its variants).
+gl::ShaderProgram SceneProgram(std::string_view defines = {}) {
+  gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene", defines);
+  program.Set("u_shadow_maps", kShadowUnit);
+  program.Set("u_fabric_params", kFabricUnit);
+  program.Set("u_fabric_lut", kFabricUnit + 1);
+  return program;
+}
+
+}  // namespace
+
 SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
-    : context_(context), scene_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("scene"))) {
-  scene_program_.Set("u_shadow_maps", kShadowUnit);
-  scene_program_.Set("u_fabric_params", kFabricUnit);
-  scene_program_.Set("u_fabric_lut", kFabricUnit + 1);
+    : context_(context), scene_program_((context.MakeCurrent(), SceneProgram())) {}
+
+gl::ShaderProgram& SvbrdfRenderer::ProgramFor(v1::LevelMode mode) {
+  if (mode != v1::LEVEL_MODE_ANISOTROPIC) return scene_program_;
+  if (!anisotropic_program_) anisotropic_program_.emplace(SceneProgram("#define LOOM_ANISOTROPIC_LEVELS\n"));
+  return *anisotropic_program_;
 }
 
 RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
@@ -98,6 +109,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
+  gl::ShaderProgram& program = ProgramFor(settings.level_mode());
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
     shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
@@ -113,7 +125,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   gl::GpuTimer timer;
   timer.Start();
 
-  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, scene_program_);
+  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, program);
 
   gl::Framebuffer target(width, height, MsaaSamples(settings));
   target.Bind();
@@ -126,13 +138,13 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
 
   const CameraMatrices camera =
       MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
-  scene_program_.Use();
-  scene_program_.Set("u_view_projection", camera.projection * camera.view);
-  scene_program_.Set("u_eye", camera.position);
-  scene_program_.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
-  scene_program_.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
-  scene_program_.Set("u_ambient", ToGlm(scene.ambient()));
-  scene_program_.Set("u_level_mode", static_cast<int>(settings.level_mode()));
+  program.Use();
+  program.Set("u_view_projection", camera.projection * camera.view);
+  program.Set("u_eye", camera.position);
+  program.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
+  program.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
+  program.Set("u_ambient", ToGlm(scene.ambient()));
+  program.Set("u_level_mode", static_cast<int>(settings.level_mode()));
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
@@ -141,13 +153,13 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   for (const size_t i : DrawOrder(meshes, fabrics, camera.position)) {
     const v1::SceneObject& object = *meshes[i].object;
     const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
-    scene_program_.Set("u_has_fabric", fabric != nullptr ? 1 : 0);
+    program.Set("u_has_fabric", fabric != nullptr ? 1 : 0);
     if (fabric != nullptr) {
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      fabric->Bind(scene_program_, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
+      fabric->Bind(program, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
     } else {
-      scene_program_.Set("u_base_colour", ToGlm(object.base_colour()));
+      program.Set("u_base_colour", ToGlm(object.base_colour()));
     }
     buffers[i]->Draw();
   }

@@ -10,6 +10,7 @@
 // ambient is the radiance of a uniform, unshadowed environment.
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/gl/egl_context.h"
@@ -39,8 +40,13 @@ class SvbrdfRenderer {
                        const std::vector<const FabricTextures*>& fabrics);
 
  private:
+  // The program for the scene's level mode: the anisotropic one (its own compile,
+  // core/shaders/fabric.glsl) is made the first time a scene asks for it.
+  gl::ShaderProgram& ProgramFor(v1::LevelMode mode);
+
   gl::EglContext& context_;
   gl::ShaderProgram scene_program_;
+  std::optional<gl::ShaderProgram> anisotropic_program_;
   std::unique_ptr<ShadowMaps> shadows_;
 };
 

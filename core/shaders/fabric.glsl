@@ -76,12 +76,14 @@ FabricTexel FetchFabricTexel(vec2 tile, int level, vec3 view) {
 // (loom-lab compare): mid distance PSNR 14.3 → 14.7 dB, SSIM 0.52 → 0.61, for a
 // little more flicker under a one-pixel move (0.0016 → 0.0021; level 0: 0.023).
 //
-// Anisotropic mode, as GPUs filter textures anisotropically: N = the longer axis
-// over the shorter (at most kMaxAnisotropy) shadings spread along the longer axis,
-// each at the level of the longer axis over N, so that every shading's texel spans
-// about a pixel both ways. The area rule point-fetches texels finer than a pixel
-// along the foreshortened axis, which alias; the longer axis alone blurs the other.
-// For a round footprint both modes agree.
+// Anisotropic mode (compiled apart, with LOOM_ANISOTROPIC_LEVELS defined: its loop
+// costs the other modes half as much again on llvmpipe even when it runs once), as
+// GPUs filter textures anisotropically: N = the longer axis over the shorter (at
+// most kMaxAnisotropy) shadings spread along the longer axis, each at the level of
+// the longer axis over N, so that every shading's texel spans about a pixel both
+// ways. The area rule point-fetches texels finer than a pixel along the
+// foreshortened axis, which alias; the longer axis alone blurs the other. For a
+// round footprint both modes agree.
 const int kMaxAnisotropy = 8;
 
 struct FabricFootprint {
@@ -98,12 +100,13 @@ FabricFootprint FabricLevels(vec2 tile) {
   FabricFootprint f;
   f.samples = 1;
   f.axis = lu >= lv ? du : dv;
+#ifdef LOOM_ANISOTROPIC_LEVELS
+  float longer = max(lu, lv), shorter = max(min(lu, lv), 1e-8);
+  f.samples = clamp(int(ceil(longer / shorter - 0.01)), 1, kMaxAnisotropy);
+  float lambda = log2(max(longer / float(f.samples), 1e-8));
+#else
   float lambda = 0.5 * log2(max(lu * lv, 1e-16));
-  if (u_level_mode == 4) {
-    float longer = max(lu, lv), shorter = max(min(lu, lv), 1e-8);
-    f.samples = clamp(int(ceil(longer / shorter - 0.01)), 1, kMaxAnisotropy);
-    lambda = log2(max(longer / float(f.samples), 1e-8));
-  }
+#endif
   lambda = clamp(lambda, 0.0, float(u_fabric_levels - 1));
   if (u_level_mode == 1) lambda = 0.0;
   if (u_level_mode == 2) lambda = floor(lambda + 0.5);
@@ -129,6 +132,16 @@ vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, mat3 to_surface, vec3 pos
   return vec4(t.lut.rgb * radiance, t.lut.a);
 }
 
+// The footprint's one or two levels at `tile`, blended.
+vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, vec3 view, mat3 to_surface, vec3 position, vec3 normal,
+                       vec3 ambient) {
+  vec4 result = ShadeFabricLevel(tile, f.level0, view, to_surface, position, normal, ambient);
+  if (f.blend > 0.0) {
+    result = mix(result, ShadeFabricLevel(tile, f.level1, view, to_surface, position, normal, ambient), f.blend);
+  }
+  return result;
+}
+
 // The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
 // (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
 // is the unit world direction to the eye.
@@ -144,15 +157,14 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
   vec2 tile = uv * u_fabric_repeat + view.xy / max(view.z, 0.1) * u_fabric_sampling_height;
   // The footprint comes first: derivatives are undefined inside the loop.
   FabricFootprint f = FabricLevels(tile);
+#ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {
     vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
-    vec4 shaded = ShadeFabricLevel(at, f.level0, view, to_surface, position, normal, ambient);
-    if (f.blend > 0.0) {
-      shaded = mix(shaded, ShadeFabricLevel(at, f.level1, view, to_surface, position, normal, ambient), f.blend);
-    }
-    result += shaded;
+    result += ShadeFabricLevels(at, f, view, to_surface, position, normal, ambient);
   }
-  result /= float(f.samples);
-  return result;
+  return result / float(f.samples);
+#else
+  return ShadeFabricLevels(tile, f, view, to_surface, position, normal, ambient);
+#endif
 }
