@@ -9,5 +9,6 @@ rows=$(mktemp)
 trap 'rm -f "$rows"' EXIT
 LOOM_STABILITY_CSV="$rows" ctest --test-dir build -L stability --output-on-failure "$@"
 mkdir -p docs/results
-{ echo "regime,method,metric,value,bound"; LC_ALL=C sort "$rows"; } > docs/results/stability.csv
+# -u: a figure two comparisons share (the reference's) is one row.
+{ echo "regime,method,metric,value,bound"; LC_ALL=C sort -u "$rows"; } > docs/results/stability.csv
 echo "wrote docs/results/stability.csv ($(wc -l < "$rows") figures)"

@@ -86,15 +86,15 @@ FitFallbacks CountFallbacks(const FittedFabric& fit) {
 }
 
 ImageComparison CompareMethods(const std::string& regime, const Image& svbrdf, const Image& reference,
-                               const ComparisonBounds& bounds) {
-  Figure(regime, "svbrdf", "frame_nonfinite", static_cast<double>(NonFiniteCount(svbrdf)), AtMost(0));
+                               const ComparisonBounds& bounds, const std::string& method) {
+  Figure(regime, method, "frame_nonfinite", static_cast<double>(NonFiniteCount(svbrdf)), AtMost(0));
   Figure(regime, "reference", "frame_nonfinite", static_cast<double>(NonFiniteCount(reference)), AtMost(0));
   const ImageComparison comparison = CompareImages(svbrdf, reference);
-  Figure(regime, "svbrdf", "psnr_db", comparison.psnr_db, bounds.psnr_db);
-  Figure(regime, "svbrdf", "ssim", comparison.ssim, Unbounded());
+  Figure(regime, method, "psnr_db", comparison.psnr_db, bounds.psnr_db);
+  Figure(regime, method, "ssim", comparison.ssim, Unbounded());
   const double mean_ratio = MeanRed(svbrdf) / MeanRed(reference);
-  Figure(regime, "svbrdf", "mean_ratio", mean_ratio, Unbounded());
-  Figure(regime, "svbrdf", "mean_ratio_error", std::abs(mean_ratio - 1.0), bounds.mean_ratio_error);
+  Figure(regime, method, "mean_ratio", mean_ratio, Unbounded());
+  Figure(regime, method, "mean_ratio_error", std::abs(mean_ratio - 1.0), bounds.mean_ratio_error);
   return comparison;
 }
 

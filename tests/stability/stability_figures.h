@@ -49,13 +49,14 @@ FitFallbacks CountFallbacks(const FittedFabric& fit);
 
 // The figures of one svbrdf-vs-reference comparison under `regime`: no NaN/Inf in
 // either frame (bounded at 0 always), PSNR and the mean-radiance ratio's distance
-// from 1 against the given bounds. Returns the comparison for further checks.
+// from 1 against the given bounds, recorded as `method`'s (an svbrdf variant, e.g.
+// "svbrdf_anisotropic"). Returns the comparison for further checks.
 struct ComparisonBounds {
   Bound psnr_db = Unbounded();
   Bound mean_ratio_error = Unbounded();  // |mean(svbrdf) / mean(reference) − 1| over the red channel
 };
 ImageComparison CompareMethods(const std::string& regime, const Image& svbrdf, const Image& reference,
-                               const ComparisonBounds& bounds);
+                               const ComparisonBounds& bounds, const std::string& method = "svbrdf");
 
 // log10 of the largest lobe peak of any texel, level and channel, max_k |C_k|^N,
 // over the peak of an energy-conserving cosine lobe of the same exponent,
