@@ -98,9 +98,9 @@ FabricFootprint FabricLevels(vec2 tile) {
   vec2 du = dFdx(tile), dv = dFdy(tile);
   float lu = length(du) * float(u_fabric_resolution), lv = length(dv) * float(u_fabric_resolution);
   FabricFootprint f;
-  f.samples = 1;
-  f.axis = lu >= lv ? du : dv;
+  f.samples = 1;  // one shading at the fragment: `axis` is not read
 #ifdef LOOM_ANISOTROPIC_LEVELS
+  f.axis = lu >= lv ? du : dv;
   float longer = max(lu, lv), shorter = max(min(lu, lv), 1e-8);
   f.samples = clamp(int(ceil(longer / shorter - 0.01)), 1, kMaxAnisotropy);
   float lambda = log2(max(longer / float(f.samples), 1e-8));
