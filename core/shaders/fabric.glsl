@@ -31,10 +31,12 @@ struct FabricTexel {
 
 vec3 ToTexelFrame(FabricTexel t, vec3 d) { return vec3(dot(t.tangent, d), dot(t.bitangent, d), dot(t.normal, d)); }
 
-// `view` in the surface frame.
-FabricTexel FetchFabricTexel(vec2 tile, int level, vec3 view) {
-  int resolution = max(u_fabric_resolution >> level, 1);
-  ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
+// Texels per tile side at `level`.
+int FabricResolution(int level) { return max(u_fabric_resolution >> level, 1); }
+
+// Texel `texel` of `level`; `view` in the surface frame.
+FabricTexel FetchFabricTexel(ivec2 texel, int level, vec3 view) {
+  int resolution = FabricResolution(level);
   FabricTexel t;
   t.brdf.rho = texelFetch(u_fabric_params, ivec3(texel, 0), level).rgb;
   t.normal = texelFetch(u_fabric_params, ivec3(texel, 1), level).xyz;
@@ -116,29 +118,49 @@ FabricFootprint FabricLevels(vec2 tile) {
   return f;
 }
 
-// Radiance (rgb) and coverage alpha of one level, for unit `view` and the lights
-// mapped into the surface frame by `to_surface` (rows T, B, N).
-vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
-  FabricTexel t = FetchFabricTexel(tile, level, view);
-  vec3 v = ToTexelFrame(t, view);
-  // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
-  vec3 radiance = ambient * kPi * t.brdf.rho;
+// The lights at a fragment in the surface frame, gathered once however many texels
+// the fragment shades (two levels, N anisotropic shadings): each light's direction
+// and its irradiance times its visibility. The shadow map's nine taps per light
+// were the dearest part of a shading, and none of it depends on the texel.
+struct FabricLighting {
+  vec3 direction[kMaxLights];   // unit, surface frame
+  vec3 irradiance[kMaxLights];  // times the light's visibility
+  vec3 ambient;
+};
+
+FabricLighting GatherLighting(mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
+  FabricLighting lighting;
+  lighting.ambient = ambient;
   for (int i = 0; i < u_light_count; ++i) {
     vec3 irradiance;
-    vec3 world_light = LightDirection(i, position, irradiance);
-    vec3 l = ToTexelFrame(t, to_surface * world_light);
-    radiance += irradiance * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v) * LightVisibility(i, position, normal);
+    lighting.direction[i] = to_surface * LightDirection(i, position, irradiance);
+    lighting.irradiance[i] = irradiance * LightVisibility(i, position, normal);
+  }
+  return lighting;
+}
+
+// Radiance (rgb) and coverage alpha of one texel, for unit `view` in the surface frame.
+vec4 ShadeFabricTexel(FabricTexel t, vec3 view, FabricLighting lighting) {
+  vec3 v = ToTexelFrame(t, view);
+  // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
+  vec3 radiance = lighting.ambient * kPi * t.brdf.rho;
+  for (int i = 0; i < u_light_count; ++i) {
+    radiance += lighting.irradiance[i] * EvaluateLafortune(t.brdf, u_fabric_lobes, ToTexelFrame(t, lighting.direction[i]), v);
   }
   return vec4(t.lut.rgb * radiance, t.lut.a);
 }
 
+// One level at `tile`: the texel it falls in (the paper's lookup).
+vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, FabricLighting lighting) {
+  int resolution = FabricResolution(level);
+  ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
+  return ShadeFabricTexel(FetchFabricTexel(texel, level, view), view, lighting);
+}
+
 // The footprint's one or two levels at `tile`, blended.
-vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, vec3 view, mat3 to_surface, vec3 position, vec3 normal,
-                       vec3 ambient) {
-  vec4 result = ShadeFabricLevel(tile, f.level0, view, to_surface, position, normal, ambient);
-  if (f.blend > 0.0) {
-    result = mix(result, ShadeFabricLevel(tile, f.level1, view, to_surface, position, normal, ambient), f.blend);
-  }
+vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, vec3 view, FabricLighting lighting) {
+  vec4 result = ShadeFabricLevel(tile, f.level0, view, lighting);
+  if (f.blend > 0.0) result = mix(result, ShadeFabricLevel(tile, f.level1, view, lighting), f.blend);
   return result;
 }
 
@@ -157,14 +179,15 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
   vec2 tile = uv * u_fabric_repeat + view.xy / max(view.z, 0.1) * u_fabric_sampling_height;
   // The footprint comes first: derivatives are undefined inside the loop.
   FabricFootprint f = FabricLevels(tile);
+  FabricLighting lighting = GatherLighting(to_surface, position, normal, ambient);
 #ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {
     vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
-    result += ShadeFabricLevels(at, f, view, to_surface, position, normal, ambient);
+    result += ShadeFabricLevels(at, f, view, lighting);
   }
   return result / float(f.samples);
 #else
-  return ShadeFabricLevels(tile, f, view, to_surface, position, normal, ambient);
+  return ShadeFabricLevels(tile, f, view, lighting);
 #endif
 }
