@@ -42,7 +42,7 @@ const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "fabric", "view", "distance", "tile_pixels",
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-    "supersampling", "seed", "level_mode", "msaa_samples", "reference_samples",
+    "supersampling", "seed", "level_mode", "texel_filter", "msaa_samples", "reference_samples",
     "precompute_seconds", "precompute_cpu_seconds", "asset_bytes", "frame_ms", "gpu_ms",
     "rmse", "psnr_db", "perceptual_error", "flicker", "load_average"};
 
@@ -265,6 +265,7 @@ class Sweep {
                      when_svbrdf(std::to_string(precompute.supersampling())),
                      when_svbrdf(std::to_string(precompute.seed())),
                      when_svbrdf(v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_"))),
+                     when_svbrdf(v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_"))),
                      when_svbrdf(std::to_string(render.msaa_samples())),
                      svbrdf ? std::string() : std::to_string(render.reference_samples()),
                      Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),

@@ -17,7 +17,8 @@ struct Measured {
   double footprint = NAN;
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
-  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, msaa, seed;
+  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, texel_filter, msaa,
+      seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
@@ -25,7 +26,7 @@ double ToNumber(const std::string& field) { return field.empty() ? NAN : std::st
 // What a row was fitted and rendered with, as far as the CSV says, its seed left out.
 std::string Settings(const Measured& m) {
   return m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
-         m.supersampling + ',' + m.level_mode + ',' + m.msaa;
+         m.supersampling + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa;
 }
 
 // Every row takes the mean figures over the seeds measured on its scene with its
@@ -77,7 +78,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
-               msaa = column("msaa_samples"), seed = column("seed");
+               filter = column("texel_filter"), msaa = column("msaa_samples"), seed = column("seed");
   // configuration → scene → figures, in order of first appearance.
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, Measured>> rows;
@@ -88,8 +89,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                             ToNumber(row[psnr]), ToNumber(row[precompute]),
                                             ToNumber(row[bytes]), row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
-                                            row[supersampling], row[level],         row[msaa],
-                                            row[seed]};
+                                            row[supersampling], row[level],         row[filter],
+                                            row[msaa],          row[seed]};
   }
   AverageRepeats(rows);
   if (!rows.contains(baseline)) {
@@ -124,7 +125,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       const auto found = base.find(scene_name);
       if (found == base.end()) continue;
       const Measured& b = found->second;
-      if (m.level_mode != b.level_mode || m.msaa != b.msaa) {
+      if (m.level_mode != b.level_mode || m.texel_filter != b.texel_filter || m.msaa != b.msaa) {
         single_change = false;  // renders differently: not a precompute variation
         break;
       }

@@ -98,10 +98,14 @@ gl::ShaderProgram SceneProgram(std::string_view defines = {}) {
 SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
     : context_(context), scene_program_((context.MakeCurrent(), SceneProgram())) {}
 
-gl::ShaderProgram& SvbrdfRenderer::ProgramFor(v1::LevelMode mode) {
-  if (mode != v1::LEVEL_MODE_ANISOTROPIC) return scene_program_;
-  if (!anisotropic_program_) anisotropic_program_.emplace(SceneProgram("#define LOOM_ANISOTROPIC_LEVELS\n"));
-  return *anisotropic_program_;
+gl::ShaderProgram& SvbrdfRenderer::ProgramFor(const v1::RenderSettings& settings) {
+  std::string defines;
+  if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
+  if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
+  if (defines.empty()) return scene_program_;
+  auto found = variants_.find(defines);
+  if (found == variants_.end()) found = variants_.emplace(defines, SceneProgram(defines)).first;
+  return found->second;
 }
 
 RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
@@ -109,7 +113,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
-  gl::ShaderProgram& program = ProgramFor(settings.level_mode());
+  gl::ShaderProgram& program = ProgramFor(settings);
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
     shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));

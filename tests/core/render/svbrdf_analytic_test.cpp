@@ -59,37 +59,44 @@ TEST(SvbrdfAnalytic, RenderOfAFittedAnalyticBrdfMatchesItPerPixelWithinOnePercen
   SvbrdfRenderer renderer(*context);
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
   FabricTextures textures(FabricTextureData::FromFit(fit), /*half=*/false);
-  const RenderedFrame frame = renderer.Render(scene, meshes, {&textures});
+  // Every texel holds the same BRDF, so bilinear texels must shade as nearest ones do.
+  for (const v1::TexelFilter filter : {v1::TEXEL_FILTER_NEAREST, v1::TEXEL_FILTER_BILINEAR}) {
+    SCOPED_TRACE(v1::TexelFilter_Name(filter));
+    v1::SceneSpec filtered = scene;
+    filtered.mutable_render()->set_texel_filter(filter);
+    const RenderedFrame frame = renderer.Render(filtered, meshes, {&textures});
 
-  // Each pixel centre's ray, intersected with the plane z = 0.
-  const int width = frame.image.width, height = frame.image.height;
-  const CameraMatrices camera = MakeCameraMatrices(scene.camera(), static_cast<float>(width) / height);
-  const glm::mat4 unproject = glm::inverse(camera.projection * camera.view);
-  const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.7f, 1.0f));
-  const LafortuneBrdf brdf = KnownBrdf();
-  int compared = 0;
-  double worst = 0.0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const glm::vec2 ndc((x + 0.5f) / width * 2.0f - 1.0f, 1.0f - (y + 0.5f) / height * 2.0f);
-      const glm::vec4 near = unproject * glm::vec4(ndc, -1.0f, 1.0f);
-      const glm::vec4 far = unproject * glm::vec4(ndc, 1.0f, 1.0f);
-      const glm::vec3 origin = glm::vec3(near) / near.w, through = glm::vec3(far) / far.w;
-      const float t = origin.z / (origin.z - through.z);
-      const glm::vec3 hit = origin + t * (through - origin);
-      // Skip pixels off the plane or on its rim (where the pixel mixes in the background).
-      if (std::abs(hit.x) > 0.97f || std::abs(hit.y) > 0.97f) continue;
-      const glm::vec3 expected = 1.5f * brdf.Evaluate(light, glm::normalize(camera.position - hit));
-      for (int c = 0; c < 3; ++c) {
-        const double error = std::abs(frame.image.at(x, y, c) - expected[c]);
-        worst = std::max(worst, error / std::max(expected[c], 1e-3f));
-        ASSERT_NEAR(frame.image.at(x, y, c), expected[c], 0.01f * expected[c] + 1e-5f)
-            << "pixel " << x << "," << y << " channel " << c;
+    // Each pixel centre's ray, intersected with the plane z = 0.
+    const int width = frame.image.width, height = frame.image.height;
+    const CameraMatrices camera = MakeCameraMatrices(scene.camera(), static_cast<float>(width) / height);
+    const glm::mat4 unproject = glm::inverse(camera.projection * camera.view);
+    const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.7f, 1.0f));
+    const LafortuneBrdf brdf = KnownBrdf();
+    int compared = 0;
+    double worst = 0.0;
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const glm::vec2 ndc((x + 0.5f) / width * 2.0f - 1.0f, 1.0f - (y + 0.5f) / height * 2.0f);
+        const glm::vec4 near = unproject * glm::vec4(ndc, -1.0f, 1.0f);
+        const glm::vec4 far = unproject * glm::vec4(ndc, 1.0f, 1.0f);
+        const glm::vec3 origin = glm::vec3(near) / near.w, through = glm::vec3(far) / far.w;
+        const float t = origin.z / (origin.z - through.z);
+        const glm::vec3 hit = origin + t * (through - origin);
+        // Skip pixels off the plane or on its rim (where the pixel mixes in the background).
+        if (std::abs(hit.x) > 0.97f || std::abs(hit.y) > 0.97f) continue;
+        const glm::vec3 expected = 1.5f * brdf.Evaluate(light, glm::normalize(camera.position - hit));
+        for (int c = 0; c < 3; ++c) {
+          const double error = std::abs(frame.image.at(x, y, c) - expected[c]);
+          worst = std::max(worst, error / std::max(expected[c], 1e-3f));
+          ASSERT_NEAR(frame.image.at(x, y, c), expected[c], 0.01f * expected[c] + 1e-5f)
+              << "pixel " << x << "," << y << " channel " << c;
+        }
+        ++compared;
       }
-      ++compared;
-    }
-  EXPECT_GT(compared, width * height / 4);  // the plane fills about a third of the frame
-  std::printf("compared %d pixels, worst relative error %.4f%%\n", compared, 100.0 * worst);
+    EXPECT_GT(compared, width * height / 4);  // the plane fills about a third of the frame
+    std::printf("%s: compared %d pixels, worst relative error %.4f%%\n", v1::TexelFilter_Name(filter).c_str(),
+                compared, 100.0 * worst);
+  }
 }
 
 }  // namespace

@@ -104,5 +104,27 @@ TEST(SvbrdfVsReference, AnisotropicLevelsAreCloserToTheReferenceThanTrilinearAtA
   EXPECT_GT(anisotropic, trilinear + 0.5) << anisotropic << " vs " << trilinear;
 }
 
+// Bilinear texels blend the shadings of the four texels around a point. Close up
+// (a texel spans ~2 px) they smooth the paper's blocky texels; at 70° the level's
+// texels are about a pixel and the nearest one aliases. Measured on these scenes:
+// near 13.39 → 13.83 dB, grazing 16.34 → 17.51 dB against the reference.
+TEST(SvbrdfVsReference, BilinearTexelsAreCloserToTheReferenceThanNearestCloseUpAndAtAGrazingView) {
+  const auto gain = [](float repeat, float tilt_degrees) {
+    ComparisonOptions options;
+    options.repeat = repeat;
+    options.tilt_degrees = tilt_degrees;
+    const Image reference = RenderReference(MakeComparisonScene(options));
+    const double nearest = CompareImages(RenderSvbrdf(MakeComparisonScene(options)), reference).psnr_db;
+    options.texel_filter = "TEXEL_FILTER_BILINEAR";
+    const double bilinear = CompareImages(RenderSvbrdf(MakeComparisonScene(options)), reference).psnr_db;
+    return bilinear - nearest;
+  };
+  const double close_up = gain(3, 0), grazing = gain(32, 70);
+  RecordProperty("gain_close_up_db", std::to_string(close_up));
+  RecordProperty("gain_grazing_db", std::to_string(grazing));
+  EXPECT_GT(close_up, 0.2);
+  EXPECT_GT(grazing, 0.5);
+}
+
 }  // namespace
 }  // namespace loom
