@@ -34,15 +34,57 @@ vec3 ToTexelFrame(FabricTexel t, vec3 d) { return vec3(dot(t.tangent, d), dot(t.
 // Texels per tile side at `level`.
 int FabricResolution(int level) { return max(u_fabric_resolution >> level, 1); }
 
-// Texel `texel` of `level`; `view` in the surface frame.
-FabricTexel FetchFabricTexel(ivec2 texel, int level, vec3 view) {
+// What every shading of a fragment shares, gathered once however many texels the
+// fragment shades (two levels; four texels a level with bilinear texels; N points
+// with anisotropic levels): the view, where it falls in the lookup table's view
+// grid, and each light's direction and irradiance times its visibility. The shadow
+// map's nine taps per light and the view's grid position (an atan) were the
+// dearest parts of a shading, and none of it depends on the texel.
+struct FabricFragment {
+  vec3 view;                          // unit, surface frame
+  vec2 view_grid;                     // in a texel's k×k block of the LUT, clamped to it
+  float beyond_ring;                  // how far past the outermost stored ring, [0, 1]
+  vec3 light_direction[kMaxLights];   // unit, surface frame
+  vec3 light_irradiance[kMaxLights];  // times the light's visibility
+  vec3 ambient;
+};
+
+FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
+  FabricFragment fragment;
+  fragment.view = view;
+  // T(v) between the stored views (acquisition's views, in tile space): bilinear
+  // inside a texel's k×k block. The grid coordinate is clamped to the block, so
+  // the filter never reads a neighbour.
+  float k = float(u_fabric_view_side);
+  vec2 unclamped = HemisphereGridCoordinates(view, k);
+  fragment.view_grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
+  // Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
+  // horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
+  // nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
+  // alpha is 1 there; it is interpolated towards 1 instead of held at the last
+  // ring's value, which let a loose weave at 85° show holes the reference does not
+  // (docs/stability.md).
+  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
+  fragment.beyond_ring = clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0);
+  fragment.ambient = ambient;
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 irradiance;
+    fragment.light_direction[i] = to_surface * LightDirection(i, position, irradiance);
+    fragment.light_irradiance[i] = irradiance * LightVisibility(i, position, normal);
+  }
+  return fragment;
+}
+
+// Texel `texel` of `level`, its T and alpha for the fragment's view.
+FabricTexel FetchFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
   int resolution = FabricResolution(level);
   FabricTexel t;
   t.brdf.rho = texelFetch(u_fabric_params, ivec3(texel, 0), level).rgb;
   t.normal = texelFetch(u_fabric_params, ivec3(texel, 1), level).xyz;
   t.tangent = texelFetch(u_fabric_params, ivec3(texel, 2), level).xyz;
   t.bitangent = cross(t.normal, t.tangent);
-  for (int i = 0; i < kMaxLobes; ++i) {
+  // Only the fabric's lobes: EvaluateLafortune reads no others.
+  for (int i = 0; i < u_fabric_lobes; ++i) {
     vec4 x = texelFetch(u_fabric_params, ivec3(texel, 3 + 3 * i), level);
     vec4 y = texelFetch(u_fabric_params, ivec3(texel, 4 + 3 * i), level);
     vec4 z = texelFetch(u_fabric_params, ivec3(texel, 5 + 3 * i), level);
@@ -51,22 +93,10 @@ FabricTexel FetchFabricTexel(ivec2 texel, int level, vec3 view) {
     t.brdf.cz[i] = z.rgb;
     t.brdf.n[i] = vec3(x.a, y.a, z.a);
   }
-  // T(v) between the stored views (acquisition's views, in tile space): bilinear
-  // inside this texel's k×k block. The grid coordinate is clamped to the block, so
-  // the filter never reads a neighbour.
   float k = float(u_fabric_view_side);
-  vec2 unclamped = HemisphereGridCoordinates(view, k);
-  vec2 grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
-  vec2 atlas = (vec2(texel) * k + grid + 0.5) / (float(resolution) * k);
+  vec2 atlas = (vec2(texel) * k + fragment.view_grid + 0.5) / (float(resolution) * k);
   t.lut = textureLod(u_fabric_lut, atlas, float(level));
-  // Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
-  // horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
-  // nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
-  // alpha is 1 there; it is interpolated towards 1 instead of held at the last
-  // ring's value, which let a loose weave at 85° show holes the reference does not
-  // (docs/stability.md).
-  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
-  t.lut.a = mix(t.lut.a, 1.0, clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0));
+  t.lut.a = mix(t.lut.a, 1.0, fragment.beyond_ring);
   return t;
 }
 
@@ -118,34 +148,14 @@ FabricFootprint FabricLevels(vec2 tile) {
   return f;
 }
 
-// The lights at a fragment in the surface frame, gathered once however many texels
-// the fragment shades (two levels, N anisotropic shadings): each light's direction
-// and its irradiance times its visibility. The shadow map's nine taps per light
-// were the dearest part of a shading, and none of it depends on the texel.
-struct FabricLighting {
-  vec3 direction[kMaxLights];   // unit, surface frame
-  vec3 irradiance[kMaxLights];  // times the light's visibility
-  vec3 ambient;
-};
-
-FabricLighting GatherLighting(mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
-  FabricLighting lighting;
-  lighting.ambient = ambient;
-  for (int i = 0; i < u_light_count; ++i) {
-    vec3 irradiance;
-    lighting.direction[i] = to_surface * LightDirection(i, position, irradiance);
-    lighting.irradiance[i] = irradiance * LightVisibility(i, position, normal);
-  }
-  return lighting;
-}
-
-// Radiance (rgb) and coverage alpha of one texel, for unit `view` in the surface frame.
-vec4 ShadeFabricTexel(FabricTexel t, vec3 view, FabricLighting lighting) {
-  vec3 v = ToTexelFrame(t, view);
+// Radiance (rgb) and coverage alpha of one texel of the fragment.
+vec4 ShadeFabricTexel(FabricTexel t, FabricFragment fragment) {
+  vec3 v = ToTexelFrame(t, fragment.view);
   // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
-  vec3 radiance = lighting.ambient * kPi * t.brdf.rho;
+  vec3 radiance = fragment.ambient * kPi * t.brdf.rho;
   for (int i = 0; i < u_light_count; ++i) {
-    radiance += lighting.irradiance[i] * EvaluateLafortune(t.brdf, u_fabric_lobes, ToTexelFrame(t, lighting.direction[i]), v);
+    vec3 l = ToTexelFrame(t, fragment.light_direction[i]);
+    radiance += fragment.light_irradiance[i] * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v);
   }
   return vec4(t.lut.rgb * radiance, t.lut.a);
 }
@@ -155,10 +165,10 @@ vec4 ShadeFabricTexel(FabricTexel t, vec3 view, FabricLighting lighting) {
 // across the tile's periodic edges. Blending shadings, not parameters: a mean of
 // lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
 // bench set, blending the shadings +1.6 dB).
-vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, FabricLighting lighting) {
+vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
   int resolution = FabricResolution(level);
 #ifdef LOOM_BILINEAR_TEXELS
-  if (resolution == 1) return ShadeFabricTexel(FetchFabricTexel(ivec2(0), level, view), view, lighting);
+  if (resolution == 1) return ShadeFabricTexel(FetchFabricTexel(ivec2(0), level, fragment), fragment);
   vec2 at = fract(tile) * float(resolution) - 0.5;
   vec2 corner = floor(at), weight = at - corner;
   vec4 result = vec4(0.0);
@@ -166,19 +176,19 @@ vec4 ShadeFabricLevel(vec2 tile, int level, vec3 view, FabricLighting lighting) 
     ivec2 offset = ivec2(i & 1, i >> 1);
     ivec2 texel = (ivec2(corner) + offset + resolution) % resolution;
     vec2 w = mix(1.0 - weight, weight, vec2(offset));
-    result += w.x * w.y * ShadeFabricTexel(FetchFabricTexel(texel, level, view), view, lighting);
+    result += w.x * w.y * ShadeFabricTexel(FetchFabricTexel(texel, level, fragment), fragment);
   }
   return result;
 #else
   ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
-  return ShadeFabricTexel(FetchFabricTexel(texel, level, view), view, lighting);
+  return ShadeFabricTexel(FetchFabricTexel(texel, level, fragment), fragment);
 #endif
 }
 
 // The footprint's one or two levels at `tile`, blended.
-vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, vec3 view, FabricLighting lighting) {
-  vec4 result = ShadeFabricLevel(tile, f.level0, view, lighting);
-  if (f.blend > 0.0) result = mix(result, ShadeFabricLevel(tile, f.level1, view, lighting), f.blend);
+vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, FabricFragment fragment) {
+  vec4 result = ShadeFabricLevel(tile, f.level0, fragment);
+  if (f.blend > 0.0) result = mix(result, ShadeFabricLevel(tile, f.level1, fragment), f.blend);
   return result;
 }
 
@@ -197,15 +207,15 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
   vec2 tile = uv * u_fabric_repeat + view.xy / max(view.z, 0.1) * u_fabric_sampling_height;
   // The footprint comes first: derivatives are undefined inside the loop.
   FabricFootprint f = FabricLevels(tile);
-  FabricLighting lighting = GatherLighting(to_surface, position, normal, ambient);
+  FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
 #ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {
     vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
-    result += ShadeFabricLevels(at, f, view, lighting);
+    result += ShadeFabricLevels(at, f, fragment);
   }
   return result / float(f.samples);
 #else
-  return ShadeFabricLevels(tile, f, view, lighting);
+  return ShadeFabricLevels(tile, f, fragment);
 #endif
 }
