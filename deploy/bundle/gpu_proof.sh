@@ -10,7 +10,9 @@
 # `loom fabric precompute`, renders the example scene with the same settings
 # (proof/scene.json, 480x270) with `loom render` into OUT_DIR/frame.exr and
 # frame.png, and prints the worker's GL renderer (loom-worker --probe --json) and
-# the time of each step. If the bundle carries proof/llvmpipe.exr (the same frame
+# the time of each step; then runs frame_benchmark.sh (issue 5's figures: svbrdf at
+# 1920x1080 on the bench cloth, its GPU time, the reference's time and PSNR) into
+# OUT_DIR/frame-benchmark. If the bundle carries proof/llvmpipe.exr (the same frame
 # made with --software on Mesa llvmpipe; make_bundle.sh's caller adds it), it
 # compares the two with loom-lab compare and fails unless PSNR >= 40 dB.
 #
@@ -71,6 +73,11 @@ echo "render: $(seconds_since "$start") s (a cached fabric: the frame job alone)
 loom render "$here/proof/scene.json" -o "$out/frame.png" >/dev/null
 echo "frame: $out/frame.exr, $out/frame.png"
 loom jobs list --kind render >"$out/jobs.txt" || true
+
+echo "== frame benchmark (frame_benchmark.sh: svbrdf at 1920x1080 on the bench cloth, and the reference)"
+start=$(now)
+LOOM_LAB="$run loom-lab" "$here/frame_benchmark.sh" "${worker_flags[@]}" "$out/frame-benchmark" 2>"$out/frame-benchmark.log"
+echo "frame benchmark: $(seconds_since "$start") s"
 
 reference=$here/proof/llvmpipe.exr
 if [[ ! -f "$reference" ]]; then

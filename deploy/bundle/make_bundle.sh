@@ -18,6 +18,7 @@
 #   lib/glibc-versions  the glibc symbol versions the bundle needs (run.sh checks)
 #   run.sh              sets LD_LIBRARY_PATH and runs a bundled binary
 #   gpu_proof.sh, proof/  the NVIDIA proof (docs/gpu.md) and its inputs
+#   frame_benchmark.sh, scenes/  issue 5's frame benchmark (gpu_proof.sh runs it) and its bench cloth
 #   MANIFEST            what went in: version, commit, every library with its package
 #
 # What stays out, and why:
@@ -134,7 +135,9 @@ done
 awk '$1 == "libc.so.6" || $1 == "libm.so.6" || $1 == "libpthread.so.0" || $1 == "libdl.so.2" || $1 == "librt.so.1" {print $2}' \
   <<<"$versions" | grep '^GLIBC_2\.' | sort -u -V | tail -n 1 >"$out/lib/glibc-versions"
 
-install -m 755 "$repo/deploy/bundle/run.sh" "$repo/deploy/bundle/gpu_proof.sh" "$out/"
+install -m 755 "$repo/deploy/bundle/run.sh" "$repo/deploy/bundle/gpu_proof.sh" "$repo/bench/frame_benchmark.sh" "$out/"
+mkdir -p "$out/scenes"
+cp "$repo/bench/scenes/cloth_1080p.json" "$out/scenes/"
 cp "$repo/deploy/bundle/README.md" "$out/"
 cp "$repo/examples/fabrics/stockinette.json" "$repo/deploy/bundle/proof/precompute.json" \
    "$repo/deploy/bundle/proof/scene.json" "$out/proof/"

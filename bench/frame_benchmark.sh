@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Issue 5's frame benchmark: svbrdf at 1920x1080 on the bench cloth
+# (scenes/cloth_1080p.json: the standard knit draped over a ball, on a floor, one
+# shadow-casting light), at the default settings and with anisotropic levels and
+# with bilinear texels, each the fastest of 5 frames of one renderer (the first
+# compiles its shader variant and allocates the shadow maps); then the reference of
+# the same view once (64 samples per pixel), svbrdf's PSNR and SSIM against it and
+# the reference/svbrdf time ratio. Each render's figures are in OUT_DIR/*.json; a
+# summary goes to stdout and OUT_DIR/summary.txt.
+#
+#   bench/frame_benchmark.sh [--software] [OUT_DIR]     (OUT_DIR default out/frame-benchmark)
+#
+# --software: Mesa llvmpipe even on a GPU machine. LOOM_LAB: the loom-lab command
+# (default: build/lab/loom-lab of this checkout; the bundle's gpu_proof.sh passes
+# "run.sh loom-lab"). The fabric is precomputed once into OUT_DIR/fabrics (default
+# settings: ~18 s on 2 cores) and loaded from there afterwards.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+read -r -a lab <<<"${LOOM_LAB:-$here/../build/lab/loom-lab}"
+gl_flags=()
+if [[ "${1:-}" == "--software" ]]; then
+  gl_flags=(--software)
+  shift
+fi
+out=${1:-out/frame-benchmark}
+scene=$here/scenes/cloth_1080p.json
+mkdir -p "$out"
+
+# A top-level number from one of loom-lab's --json objects.
+field() { sed -n "s/.*\"$1\":\([-0-9.e+]*\).*/\1/p" "$2"; }
+
+svbrdf() {  # NAME, then loom-lab render flags
+  local name=$1
+  shift
+  "${lab[@]}" --json render "$scene" --method svbrdf --fabric-cache "$out/fabrics" --frames 5 "${gl_flags[@]}" \
+    -o "$out/$name.exr" "$@" >"$out/$name.json"
+}
+
+svbrdf svbrdf
+svbrdf svbrdf-anisotropic --level-mode anisotropic
+svbrdf svbrdf-bilinear --texel-filter bilinear
+"${lab[@]}" --json render "$scene" --method reference -o "$out/reference.exr" >"$out/reference.json"
+for name in svbrdf svbrdf-anisotropic svbrdf-bilinear; do
+  "${lab[@]}" --json compare "$out/$name.exr" "$out/reference.exr" >"$out/$name-compare.json"
+done
+
+reference_ms=$(field frame_ms "$out/reference.json")
+{
+  sed -n 's/.*"gl_renderer":"\([^"]*\)".*/GL renderer: \1/p' "$out/svbrdf.json"
+  printf '%-20s %10s %10s %10s %9s %7s %16s\n' render "frame ms" "GPU ms" "first ms" "PSNR dB" SSIM "reference/this"
+  for name in svbrdf svbrdf-anisotropic svbrdf-bilinear; do
+    frame_ms=$(field frame_ms "$out/$name.json")
+    printf '%-20s %10.1f %10.1f %10.1f %9.2f %7.3f %16.0f\n' "$name" "$frame_ms" "$(field gpu_ms "$out/$name.json")" \
+      "$(field first_frame_ms "$out/$name.json")" "$(field psnr_db "$out/$name-compare.json")" \
+      "$(field ssim "$out/$name-compare.json")" "$(awk -v r="$reference_ms" -v s="$frame_ms" 'BEGIN {print r / s}')"
+  done
+  printf '%-20s %10.1f   (%s samples per pixel, CPU)\n' reference "$reference_ms" "$(field samples_per_pixel "$out/reference.json")"
+} | tee "$out/summary.txt"
