@@ -48,8 +48,8 @@ class SvbrdfRenderer {
   gl::ShaderProgram& ProgramFor(const v1::RenderSettings& settings);
 
   gl::EglContext& context_;
-  gl::ShaderProgram scene_program_;                        // the defaults: no defines
-  std::map<std::string, gl::ShaderProgram> variants_;      // by defines
+  gl::ShaderProgram scene_program_;                    // the defaults: no defines
+  std::map<std::string, gl::ShaderProgram> variants_;  // by defines
   std::unique_ptr<ShadowMaps> shadows_;
 };
 
