@@ -7,7 +7,11 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <sstream>
 #include <string>
+
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
 
 #include "core/fabric/knit_tile.h"
 #include "core/fabric/yarn_material.h"
@@ -285,6 +289,27 @@ TEST(FabricTile, RejectsBadSpecsNamingTheField) {
   // Knit loops hold thinner yarns than the general radius limit allows.
   EXPECT_NE(message_of(KnitSpec(v1::KNIT_PATTERN_STOCKINETTE, 0.15f)).find("fabric.yarns[0].radius"),
             std::string::npos);
+}
+
+// Plies and fuzz are not modelled: building a tile that sets them says so, once per
+// yarn, on the default logger.
+TEST(FabricTile, UnmodelledPliesAndFuzzAreWarnedOfOncePerYarn) {
+  std::ostringstream log;
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(
+      std::make_shared<spdlog::logger>("capture", std::make_shared<spdlog::sinks::ostream_sink_st>(log)));
+  const v1::FabricSpec plied = ParseSpecJson<v1::FabricSpec>(
+      R"({"knit": {}, "yarns": [{"name": "four-ply test yarn", "plies": 4, "fuzz": 0.25}]})", "fabric");
+  BuildFabricTile(plied);
+  BuildFabricTile(plied);
+  BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"name": "single-ply test yarn"}]})",
+                                                "fabric"));
+  spdlog::set_default_logger(previous);
+  const std::string text = log.str();
+  EXPECT_NE(text.find("yarn 'four-ply test yarn': plies (4) and fuzz (0.25) are not modelled yet"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("not modelled"), text.rfind("not modelled")) << "warned more than once: " << text;
+  EXPECT_EQ(text.find("single-ply"), std::string::npos) << text;
 }
 
 }  // namespace
