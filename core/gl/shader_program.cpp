@@ -131,7 +131,8 @@ ShaderProgram ShaderProgram::Link(const std::vector<ShaderStage>& stages) {
   return ShaderProgram(program);
 }
 
-ShaderProgram ShaderProgram::FromEmbedded(std::string_view base, std::string_view defines) {
+ShaderProgram ShaderProgram::FromEmbedded(std::string_view vertex_file, std::string_view fragment_file,
+                                          std::string_view defines) {
   // After the #version line, which must come first; #line keeps the file's numbering.
   const auto with_defines = [defines](std::string_view text) {
     std::string out(text);
@@ -141,10 +142,13 @@ ShaderProgram ShaderProgram::FromEmbedded(std::string_view base, std::string_vie
     out.insert(first_line + 1, std::string(defines) + "#line 2 0\n");
     return out;
   };
-  const std::string vertex = std::string(base) + ".vert";
-  const std::string fragment = std::string(base) + ".frag";
+  const std::string vertex(vertex_file), fragment(fragment_file);
   return Link({{GL_VERTEX_SHADER, vertex, with_defines(FindEmbedded(vertex))},
                {GL_FRAGMENT_SHADER, fragment, with_defines(FindEmbedded(fragment))}});
+}
+
+ShaderProgram ShaderProgram::FromEmbedded(std::string_view base) {
+  return FromEmbedded(std::string(base) + ".vert", std::string(base) + ".frag");
 }
 
 ShaderProgram& ShaderProgram::operator=(ShaderProgram&& other) noexcept {

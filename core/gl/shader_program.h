@@ -21,10 +21,13 @@ struct ShaderStage {
 class ShaderProgram {
  public:
   static ShaderProgram Link(const std::vector<ShaderStage>& stages);
-  // Links "<base>.vert" and "<base>.frag" from the embedded shaders, each with
+  // Links the embedded vertex and fragment shaders of these file names, each with
   // `defines` ("#define NAME\n" lines) after its #version line: a variant compiled
   // apart, so that code one variant needs costs the other nothing.
-  static ShaderProgram FromEmbedded(std::string_view base, std::string_view defines = {});
+  static ShaderProgram FromEmbedded(std::string_view vertex_file, std::string_view fragment_file,
+                                    std::string_view defines = {});
+  // "<base>.vert" and "<base>.frag".
+  static ShaderProgram FromEmbedded(std::string_view base);
 
   ShaderProgram(ShaderProgram&& other) noexcept : program_(other.program_) { other.program_ = 0; }
   ShaderProgram& operator=(ShaderProgram&& other) noexcept;

@@ -1,6 +1,7 @@
 #include "core/render/svbrdf_renderer.h"
 
 #include <algorithm>
+#include <initializer_list>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -41,10 +42,11 @@ std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::v
 
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
-// Uploads the lights to `program` and renders the shadow maps they need.
+// Renders the shadow maps the scene's lights need and uploads the lights to each
+// of `programs`.
 void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
                  const std::vector<const gl::MeshBuffer*>& casters, ShadowMaps& shadows,
-                 const gl::ShaderProgram& program) {
+                 std::initializer_list<const gl::ShaderProgram*> programs) {
   std::vector<glm::vec3> shadow_directions;
   const int count = std::min(scene.lights_size(), kMaxLights);
   for (int i = 0; i < count; ++i) {
@@ -54,16 +56,21 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
       shadow = static_cast<int>(shadow_directions.size());
       shadow_directions.push_back(light.vector);
     }
-    program.Set(Indexed("u_light_vector", i).c_str(), glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
-    program.Set(Indexed("u_light_radiance", i).c_str(), light.radiance);
-    program.Set(Indexed("u_light_shadow", i).c_str(), shadow);
+    for (const gl::ShaderProgram* program : programs) {
+      program->Set(Indexed("u_light_vector", i).c_str(), glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
+      program->Set(Indexed("u_light_radiance", i).c_str(), light.radiance);
+      program->Set(Indexed("u_light_shadow", i).c_str(), shadow);
+    }
   }
-  program.Set("u_light_count", count);
   shadows.Render(shadow_directions, bounds, casters);
-  for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
-    program.Set(Indexed("u_shadow_matrix", static_cast<int>(layer)).c_str(), shadows.matrix(static_cast<int>(layer)));
+  for (const gl::ShaderProgram* program : programs) {
+    program->Set("u_light_count", count);
+    for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
+      program->Set(Indexed("u_shadow_matrix", static_cast<int>(layer)).c_str(),
+                   shadows.matrix(static_cast<int>(layer)));
+    }
+    program->Set("u_shadow_bias", shadows.bias());
   }
-  program.Set("u_shadow_bias", shadows.bias());
 }
 
 // The scene's MSAA sample count, clamped to what this GL can give the float
@@ -84,27 +91,35 @@ int MsaaSamples(const v1::RenderSettings& settings) {
 constexpr int kShadowUnit = 0;
 constexpr int kFabricUnit = 1;
 
-// The scene program with its texture units fixed (or one of its variants).
-gl::ShaderProgram SceneProgram(std::string_view defines = {}) {
-  gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene", defines);
+// The cloth program (or one of its variants) with its texture units fixed.
+gl::ShaderProgram ClothProgram(std::string_view defines = {}) {
+  gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "cloth.frag", defines);
   program.Set("u_shadow_maps", kShadowUnit);
   program.Set("u_fabric_params", kFabricUnit);
   program.Set("u_fabric_lut", kFabricUnit + 1);
   return program;
 }
 
+gl::ShaderProgram OpaqueProgram() {
+  gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag");
+  program.Set("u_shadow_maps", kShadowUnit);
+  return program;
+}
+
 }  // namespace
 
 SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
-    : context_(context), scene_program_((context.MakeCurrent(), SceneProgram())) {}
+    : context_(context),
+      cloth_program_((context.MakeCurrent(), ClothProgram())),
+      opaque_program_(OpaqueProgram()) {}
 
-gl::ShaderProgram& SvbrdfRenderer::ProgramFor(const v1::RenderSettings& settings) {
+gl::ShaderProgram& SvbrdfRenderer::ClothProgramFor(const v1::RenderSettings& settings) {
   std::string defines;
   if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
   if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
-  if (defines.empty()) return scene_program_;
-  auto found = variants_.find(defines);
-  if (found == variants_.end()) found = variants_.emplace(defines, SceneProgram(defines)).first;
+  if (defines.empty()) return cloth_program_;
+  auto found = cloth_variants_.find(defines);
+  if (found == cloth_variants_.end()) found = cloth_variants_.emplace(defines, ClothProgram(defines)).first;
   return found->second;
 }
 
@@ -113,7 +128,8 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
-  gl::ShaderProgram& program = ProgramFor(settings);
+  const gl::ShaderProgram& cloth = ClothProgramFor(settings);
+  const std::initializer_list<const gl::ShaderProgram*> programs = {&cloth, &opaque_program_};
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
     shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
@@ -129,10 +145,14 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   gl::GpuTimer timer;
   timer.Start();
 
-  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, program);
+  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, programs);
 
-  gl::Framebuffer target(width, height, MsaaSamples(settings));
-  target.Bind();
+  const int samples = MsaaSamples(settings);
+  if (!target_ || target_->width() != width || target_->height() != height || target_->samples() != samples) {
+    target_.reset();  // before the new one: at 1080p with 4× MSAA it holds about 200 MB
+    target_ = std::make_unique<gl::Framebuffer>(width, height, samples);
+  }
+  target_->Bind();
   const glm::vec3 background = ToGlm(scene.background());
   glClearColor(background.r, background.g, background.b, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -142,13 +162,14 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
 
   const CameraMatrices camera =
       MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
-  program.Use();
-  program.Set("u_view_projection", camera.projection * camera.view);
-  program.Set("u_eye", camera.position);
-  program.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
-  program.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
-  program.Set("u_ambient", ToGlm(scene.ambient()));
-  program.Set("u_level_mode", static_cast<int>(settings.level_mode()));
+  for (const gl::ShaderProgram* program : programs) {
+    program->Set("u_view_projection", camera.projection * camera.view);
+    program->Set("u_ambient", ToGlm(scene.ambient()));
+  }
+  cloth.Set("u_eye", camera.position);
+  cloth.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
+  cloth.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
+  cloth.Set("u_level_mode", static_cast<int>(settings.level_mode()));
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
@@ -157,13 +178,14 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   for (const size_t i : DrawOrder(meshes, fabrics, camera.position)) {
     const v1::SceneObject& object = *meshes[i].object;
     const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
-    program.Set("u_has_fabric", fabric != nullptr ? 1 : 0);
     if (fabric != nullptr) {
+      cloth.Use();
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      fabric->Bind(program, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
+      fabric->Bind(cloth, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
     } else {
-      program.Set("u_base_colour", ToGlm(object.base_colour()));
+      opaque_program_.Use();
+      opaque_program_.Set("u_base_colour", ToGlm(object.base_colour()));
     }
     buffers[i]->Draw();
   }
@@ -171,7 +193,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   timer.Stop();
 
   RenderedFrame frame;
-  frame.image = target.ReadPixels();
+  frame.image = target_->ReadPixels();
   frame.gpu_ms = timer.Milliseconds();
   frame.cpu_ms = stopwatch.Milliseconds();
   return frame;

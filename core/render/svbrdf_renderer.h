@@ -2,8 +2,8 @@
 // The `svbrdf` frame renderer (DESIGN.md "Renderers"): rasterises a scene with
 // OpenGL 4.5 core through EGL — the same code on an NVIDIA GPU and on llvmpipe —
 // with macro-scale shadow maps and MSAA. Cloth is shaded per fragment from its
-// fitted BRDF array (core/shaders/fabric.glsl); objects without a fabric are
-// Lambertian in their base colour.
+// fitted BRDF array (core/shaders/cloth.frag, fabric.glsl); objects without a
+// fabric are Lambertian in their base colour (opaque.frag), a program of their own.
 //
 // Light units: a directional light's colour × intensity is the irradiance it brings
 // at normal incidence; a point light's is its intensity (irradiance = I / d²);
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/gl/egl_context.h"
+#include "core/gl/framebuffer.h"
 #include "core/gl/shader_program.h"
 #include "core/image/image.h"
 #include "core/render/fabric_textures.h"
@@ -41,15 +42,19 @@ class SvbrdfRenderer {
                        const std::vector<const FabricTextures*>& fabrics);
 
  private:
-  // The program for the scene's level mode and texel filter. Anisotropic levels and
-  // bilinear texels are compiles of their own (core/shaders/fabric.glsl: a branch on
-  // a uniform slowed the default's frames on llvmpipe), each made the first time a
-  // scene asks for it, keyed by its defines.
-  gl::ShaderProgram& ProgramFor(const v1::RenderSettings& settings);
+  // The cloth program for the scene's level mode and texel filter. Anisotropic
+  // levels and bilinear texels are compiles of their own (core/shaders/fabric.glsl:
+  // llvmpipe runs both sides of a branch, even on a uniform), each made the first
+  // time a scene asks for it, keyed by its defines.
+  gl::ShaderProgram& ClothProgramFor(const v1::RenderSettings& settings);
 
   gl::EglContext& context_;
-  gl::ShaderProgram scene_program_;                    // the defaults: no defines
-  std::map<std::string, gl::ShaderProgram> variants_;  // by defines
+  gl::ShaderProgram cloth_program_;                          // the defaults: no defines
+  std::map<std::string, gl::ShaderProgram> cloth_variants_;  // by defines
+  gl::ShaderProgram opaque_program_;  // objects without a fabric (core/shaders/opaque.frag)
+  // Kept from frame to frame while the size and sample count stay: allocating the
+  // multisampled float target (about 200 MB at 1080p) cost llvmpipe ~50 ms a frame.
+  std::unique_ptr<gl::Framebuffer> target_;
   std::unique_ptr<ShadowMaps> shadows_;
 };
 

@@ -1,6 +1,7 @@
 #version 450 core
 // Every scene object: world-space position, normal, tangent frame and uv for the
-// lighting in scene.frag. Meshes arrive in world space (core/scene/scene_geometry.h).
+// lighting in cloth.frag and opaque.frag. Meshes arrive in world space
+// (core/scene/scene_geometry.h).
 
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
