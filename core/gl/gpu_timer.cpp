@@ -6,7 +6,14 @@ GpuTimer::GpuTimer() { glCreateQueries(GL_TIMESTAMP, 2, queries_); }
 
 GpuTimer::~GpuTimer() { glDeleteQueries(2, queries_); }
 
-void GpuTimer::Start() { glQueryCounter(queries_[0], GL_TIMESTAMP); }
+// llvmpipe bins a frame's commands and runs them, timestamps included, at the next
+// flush: a start stamp binned with the draws is taken as they run, and the timer
+// read 0 for a frame drawn into the framebuffer the last one used. The flush sends
+// the stamp on its own; to a GPU it only submits what is queued.
+void GpuTimer::Start() {
+  glQueryCounter(queries_[0], GL_TIMESTAMP);
+  glFlush();
+}
 
 void GpuTimer::Stop() { glQueryCounter(queries_[1], GL_TIMESTAMP); }
 

@@ -49,6 +49,17 @@ TEST(SvbrdfRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrradian
   EXPECT_GT(frame.gpu_ms, 0.0);  // the timer query ran
 }
 
+// The renderer keeps its target between frames of one size: a second frame into it
+// is cleared and drawn alike, and timed.
+TEST(SvbrdfRenderer, ASecondFrameIntoTheKeptTargetIsTheSameAndTimed) {
+  const std::string scene = PlaneScene("", R"({"direction": {"x": 0.3, "y": 0.2, "z": 1}, "intensity": 2})");
+  const RenderedFrame first = RenderJson(scene);
+  const RenderedFrame second = RenderJson(scene);
+  EXPECT_GT(first.gpu_ms, 0.0);
+  EXPECT_GT(second.gpu_ms, 0.0);
+  EXPECT_EQ(first.image.pixels, second.image.pixels);
+}
+
 TEST(SvbrdfRenderer, ObliqueLightFollowsTheCosine) {
   // 60° from the normal: cos = 0.5.
   const RenderedFrame frame = RenderJson(PlaneScene("",
