@@ -6,7 +6,10 @@
 
 namespace loom {
 
-ShadowMaps::ShadowMaps(int size) : size_(size), program_(gl::ShaderProgram::FromEmbedded("shadow_depth")) {
+ShadowMaps::ShadowMaps(int size)
+    : size_(size),
+      opaque_program_(gl::ShaderProgram::FromEmbedded("shadow_depth")),
+      cloth_program_(gl::ShaderProgram::FromEmbedded("scene.vert", "shadow_cloth.frag")) {
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture_);
   glTextureStorage3D(texture_, 1, GL_DEPTH_COMPONENT32F, size_, size_, kMaxShadowMaps);
   glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -24,7 +27,8 @@ ShadowMaps::~ShadowMaps() {
 }
 
 void ShadowMaps::Render(const std::vector<glm::vec3>& directions, const SceneBounds& bounds,
-                        const std::vector<const gl::MeshBuffer*>& casters) {
+                        const std::vector<const gl::MeshBuffer*>& opaque, const std::vector<ClothCaster>& cloth,
+                        int fabric_unit) {
   matrices_.clear();
   const float r = bounds.radius;
   // Three map texels of offset: enough for PCF on oblique surfaces, small against the scene.
@@ -36,7 +40,6 @@ void ShadowMaps::Render(const std::vector<glm::vec3>& directions, const SceneBou
   glViewport(0, 0, size_, size_);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  program_.Use();
   for (size_t layer = 0; layer < directions.size() && layer < kMaxShadowMaps; ++layer) {
     const glm::vec3 d = glm::normalize(directions[layer]);
     const glm::vec3 up = std::abs(d.z) < 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
@@ -48,8 +51,16 @@ void ShadowMaps::Render(const std::vector<glm::vec3>& directions, const SceneBou
     glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture_, 0, static_cast<GLint>(layer));
     glNamedFramebufferDrawBuffer(framebuffer_, GL_NONE);
     glClear(GL_DEPTH_BUFFER_BIT);
-    program_.Set("u_light_view_projection", view_projection);
-    for (const gl::MeshBuffer* caster : casters) caster->Draw();
+    opaque_program_.Use();
+    opaque_program_.Set("u_light_view_projection", view_projection);
+    for (const gl::MeshBuffer* caster : opaque) caster->Draw();
+    cloth_program_.Use();
+    cloth_program_.Set("u_view_projection", view_projection);
+    cloth_program_.Set("u_towards_light", d);
+    for (const ClothCaster& caster : cloth) {
+      caster.fabric->Bind(cloth_program_, fabric_unit, caster.repeat);
+      caster.mesh->Draw();
+    }
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -2,8 +2,10 @@
 // Macro-scale shadows (Daubert's fitted BRDFs hold the yarn-scale shadowing; the
 // shadows of cloth on cloth and on other objects come from here): one depth map
 // per shadow-casting directional light, in one 2-D array texture, sampled with
-// hardware depth comparison and 3×3 PCF in core/shaders/lights.glsl. Point lights
-// cast no shadows in this renderer.
+// hardware depth comparison and 3×3 PCF in core/shaders/lights.glsl. Cloth lets
+// light through its holes: it writes depth on the fraction of map texels its
+// coverage for the light's direction says (core/shaders/shadow_cloth.frag). Point
+// lights cast no shadows in this renderer.
 
 #include <GL/glcorearb.h>
 
@@ -12,6 +14,7 @@
 
 #include "core/gl/mesh_buffer.h"
 #include "core/gl/shader_program.h"
+#include "core/render/fabric_textures.h"
 
 namespace loom {
 
@@ -29,10 +32,19 @@ class ShadowMaps {
   ShadowMaps(const ShadowMaps&) = delete;
   ShadowMaps& operator=(const ShadowMaps&) = delete;
 
+  // A mesh with a fitted fabric, repeated `repeat` times across its uv square.
+  struct ClothCaster {
+    const gl::MeshBuffer* mesh;
+    const FabricTextures* fabric;
+    glm::vec2 repeat;
+  };
+
   // Renders one map per direction (unit, towards the light; at most
   // kMaxShadowMaps) covering `bounds`; matrix(i) maps world space to map i's [0,1]³.
+  // Cloth binds its fabric's textures to units `fabric_unit` and `fabric_unit` + 1.
   void Render(const std::vector<glm::vec3>& directions, const SceneBounds& bounds,
-              const std::vector<const gl::MeshBuffer*>& casters);
+              const std::vector<const gl::MeshBuffer*>& opaque, const std::vector<ClothCaster>& cloth,
+              int fabric_unit);
 
   GLuint texture() const { return texture_; }
   const glm::mat4& matrix(int layer) const { return matrices_[static_cast<size_t>(layer)]; }
@@ -44,7 +56,8 @@ class ShadowMaps {
   int size_;
   GLuint texture_ = 0;
   GLuint framebuffer_ = 0;
-  gl::ShaderProgram program_;
+  gl::ShaderProgram opaque_program_;
+  gl::ShaderProgram cloth_program_;
   std::vector<glm::mat4> matrices_;
   float bias_ = 0.0f;
 };

@@ -40,12 +40,19 @@ std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::v
   return opaque;
 }
 
+// Texture units: the shadow maps and a fabric's two textures. Samplers of
+// different types may not share a unit in a draw, even when a branch leaves one
+// unused, so the fabric units are fixed once.
+constexpr int kShadowUnit = 0;
+constexpr int kFabricUnit = 1;
+
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
 // Renders the shadow maps the scene's lights need and uploads the lights to each
 // of `programs`.
 void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
-                 const std::vector<const gl::MeshBuffer*>& casters, ShadowMaps& shadows,
+                 const std::vector<const gl::MeshBuffer*>& opaque_casters,
+                 const std::vector<ShadowMaps::ClothCaster>& cloth_casters, ShadowMaps& shadows,
                  std::initializer_list<const gl::ShaderProgram*> programs) {
   std::vector<glm::vec3> shadow_directions;
   const int count = std::min(scene.lights_size(), kMaxLights);
@@ -62,7 +69,7 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
       program->Set(Indexed("u_light_shadow", i).c_str(), shadow);
     }
   }
-  shadows.Render(shadow_directions, bounds, casters);
+  shadows.Render(shadow_directions, bounds, opaque_casters, cloth_casters, kFabricUnit);
   for (const gl::ShaderProgram* program : programs) {
     program->Set("u_light_count", count);
     for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
@@ -84,12 +91,6 @@ int MsaaSamples(const v1::RenderSettings& settings) {
                requested, limit, limit);
   return limit;
 }
-
-// Texture units: the shadow maps and a fabric's two textures. Samplers of
-// different types may not share a unit in a draw, even when a branch leaves one
-// unused, so the fabric units are fixed once.
-constexpr int kShadowUnit = 0;
-constexpr int kFabricUnit = 1;
 
 // The cloth program (or one of its variants) with its texture units fixed.
 gl::ShaderProgram ClothProgram(std::string_view defines = {}) {
@@ -136,16 +137,23 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   }
 
   std::vector<std::unique_ptr<gl::MeshBuffer>> buffers;
-  std::vector<const gl::MeshBuffer*> casters;
-  for (const SceneMesh& mesh : meshes) {
-    buffers.push_back(std::make_unique<gl::MeshBuffer>(mesh.mesh));
-    casters.push_back(buffers.back().get());
+  std::vector<const gl::MeshBuffer*> opaque_casters;
+  std::vector<ShadowMaps::ClothCaster> cloth_casters;
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    buffers.push_back(std::make_unique<gl::MeshBuffer>(meshes[i].mesh));
+    const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
+    if (fabric == nullptr) {
+      opaque_casters.push_back(buffers.back().get());
+    } else {
+      const v1::FabricBinding& binding = meshes[i].object->fabric();
+      cloth_casters.push_back({buffers.back().get(), fabric, {binding.repeat_u(), binding.repeat_v()}});
+    }
   }
 
   gl::GpuTimer timer;
   timer.Start();
 
-  SetUpLights(scene, BoundsOf(meshes), casters, *shadows_, programs);
+  SetUpLights(scene, BoundsOf(meshes), opaque_casters, cloth_casters, *shadows_, programs);
 
   const int samples = MsaaSamples(settings);
   if (!target_ || target_->width() != width || target_->height() != height || target_->samples() != samples) {

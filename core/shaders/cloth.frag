@@ -27,14 +27,9 @@ layout(location = 0) out vec4 o_radiance;
 const float kMinCoverage = 1.0 / 256.0;
 
 void main() {
-  vec3 n = normalize(v_normal);
-  // Cloth is lit from either side: seen from behind, a surface turns its frame
-  // (the normal and with it the bitangent) towards the viewer.
-  if (!gl_FrontFacing) n = -n;
-  vec3 t = normalize(v_tangent.xyz - n * dot(n, v_tangent.xyz));
-  vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0);
+  mat3 frame = ClothFrame(v_normal, v_tangent, gl_FrontFacing);
   vec3 view = u_orthographic ? u_towards_viewer : normalize(u_eye - v_position);
-  vec4 shaded = ShadeFabric(v_uv, v_position, n, t, b, view, u_ambient);
+  vec4 shaded = ShadeFabric(v_uv, v_position, frame[2], frame[0], frame[1], view, u_ambient);
   // A hole writes no depth, so cloth drawn later behind it still shows.
   if (shaded.a < kMinCoverage) discard;
   // Premultiplied: blended over what lies behind (SvbrdfRenderer draws cloth last).

@@ -31,6 +31,17 @@ struct FabricTexel {
 
 vec3 ToTexelFrame(FabricTexel t, vec3 d) { return vec3(dot(t.tangent, d), dot(t.bitangent, d), dot(t.normal, d)); }
 
+// The mesh's frame at a fragment as columns (tangent along +u, bitangent, normal),
+// turned towards the side it is seen from: cloth is lit and seen from either side,
+// and seen from behind, a surface turns its normal and with it the bitangent.
+mat3 ClothFrame(vec3 normal, vec4 tangent, bool front_facing) {
+  vec3 n = normalize(normal);
+  if (!front_facing) n = -n;
+  vec3 t = normalize(tangent.xyz - n * dot(n, tangent.xyz));
+  vec3 b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0);
+  return mat3(t, b, n);
+}
+
 // Texels per tile side at `level`.
 int FabricResolution(int level) { return max(u_fabric_resolution >> level, 1); }
 
@@ -49,23 +60,28 @@ struct FabricFragment {
   vec3 ambient;
 };
 
+// Where a direction (unit, surface frame) falls in the lookup table's k×k view grid,
+// clamped to it, and how far past the outermost stored ring it lies, [0, 1].
+// T(v) is bilinear between the stored views (acquisition's views, in tile space)
+// inside a texel's k×k block; the clamp keeps the filter from reading a neighbour.
+// Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
+// horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
+// nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
+// alpha is 1 there; it is interpolated towards 1 instead of held at the last
+// ring's value, which let a loose weave at 85° show holes the reference does not
+// (docs/stability.md).
+void LocateFabricView(vec3 direction, out vec2 grid, out float beyond_ring) {
+  float k = float(u_fabric_view_side);
+  vec2 unclamped = HemisphereGridCoordinates(direction, k);
+  grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
+  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
+  beyond_ring = clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0);
+}
+
 FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
   FabricFragment fragment;
   fragment.view = view;
-  // T(v) between the stored views (acquisition's views, in tile space): bilinear
-  // inside a texel's k×k block. The grid coordinate is clamped to the block, so
-  // the filter never reads a neighbour.
-  float k = float(u_fabric_view_side);
-  vec2 unclamped = HemisphereGridCoordinates(view, k);
-  fragment.view_grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
-  // Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
-  // horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
-  // nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
-  // alpha is 1 there; it is interpolated towards 1 instead of held at the last
-  // ring's value, which let a loose weave at 85° show holes the reference does not
-  // (docs/stability.md).
-  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
-  fragment.beyond_ring = clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0);
+  LocateFabricView(view, fragment.view_grid, fragment.beyond_ring);
   fragment.ambient = ambient;
   for (int i = 0; i < u_light_count; ++i) {
     vec3 irradiance;
@@ -75,9 +91,23 @@ FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, v
   return fragment;
 }
 
+// T(v).rgb and alpha(v) of texel `texel` of `level` for a view at `view_grid`.
+vec4 FetchFabricLut(ivec2 texel, int level, vec2 view_grid, float beyond_ring) {
+  float k = float(u_fabric_view_side);
+  vec2 atlas = (vec2(texel) * k + view_grid + 0.5) / (float(FabricResolution(level)) * k);
+  vec4 lut = textureLod(u_fabric_lut, atlas, float(level));
+  lut.a = mix(lut.a, 1.0, beyond_ring);
+  return lut;
+}
+
+// The texel of `level` that `tile` falls in (the paper's lookup).
+ivec2 FabricTexelAt(vec2 tile, int level) {
+  int resolution = FabricResolution(level);
+  return min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
+}
+
 // Texel `texel` of `level`, its T and alpha for the fragment's view.
 FabricTexel FetchFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
-  int resolution = FabricResolution(level);
   FabricTexel t;
   t.brdf.rho = texelFetch(u_fabric_params, ivec3(texel, 0), level).rgb;
   t.normal = texelFetch(u_fabric_params, ivec3(texel, 1), level).xyz;
@@ -93,10 +123,7 @@ FabricTexel FetchFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
     t.brdf.cz[i] = z.rgb;
     t.brdf.n[i] = vec3(x.a, y.a, z.a);
   }
-  float k = float(u_fabric_view_side);
-  vec2 atlas = (vec2(texel) * k + fragment.view_grid + 0.5) / (float(resolution) * k);
-  t.lut = textureLod(u_fabric_lut, atlas, float(level));
-  t.lut.a = mix(t.lut.a, 1.0, fragment.beyond_ring);
+  t.lut = FetchFabricLut(texel, level, fragment.view_grid, fragment.beyond_ring);
   return t;
 }
 
@@ -169,8 +196,8 @@ vec4 ShadeFabricTexel(FabricTexel t, FabricFragment fragment) {
 // which runs both sides of a branch, a fifth shading on every level (1080p bench
 // cloth 712 → 631 ms without it).
 vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
-  int resolution = FabricResolution(level);
 #ifdef LOOM_BILINEAR_TEXELS
+  int resolution = FabricResolution(level);
   vec2 at = fract(tile) * float(resolution) - 0.5;
   vec2 corner = floor(at), weight = at - corner;
   vec4 result = vec4(0.0);
@@ -182,8 +209,7 @@ vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
   }
   return result;
 #else
-  ivec2 texel = min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
-  return ShadeFabricTexel(FetchFabricTexel(texel, level, fragment), fragment);
+  return ShadeFabricTexel(FetchFabricTexel(FabricTexelAt(tile, level), level, fragment), fragment);
 #endif
 }
 
@@ -194,6 +220,16 @@ vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, FabricFragment fragment) {
   return result;
 }
 
+// The tile coordinate where a ray from `direction` (unit, surface frame) meets the
+// fabric at mesh uv `uv`. Acquisition sampled texels on the tile's top face, above
+// the macro surface (tile z = 0) by the sampling height: look the texel up where the
+// ray crosses that face, as the reference's shell does. Tile units are isotropic
+// (x, y and z scale alike), so the offset is the direction's slope times the
+// height; the slope is capped near grazing, where the face is seen edge-on.
+vec2 FabricTile(vec2 uv, vec3 direction) {
+  return uv * u_fabric_repeat + direction.xy / max(direction.z, 0.1) * u_fabric_sampling_height;
+}
+
 // The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
 // (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
 // is the unit world direction to the eye.
@@ -201,12 +237,7 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
                  vec3 ambient) {
   mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
   vec3 view = to_surface * towards_viewer;
-  // Acquisition sampled texels on the tile's top face, above the macro surface
-  // (tile z = 0) by the sampling height: look the texel up where the view ray
-  // crosses that face, as the reference's shell does. Tile units are isotropic
-  // (x, y and z scale alike), so the offset is the view's slope times the height;
-  // the slope is capped near grazing, where the face is seen edge-on.
-  vec2 tile = uv * u_fabric_repeat + view.xy / max(view.z, 0.1) * u_fabric_sampling_height;
+  vec2 tile = FabricTile(uv, view);
   // The footprint comes first: derivatives are undefined inside the loop.
   FabricFootprint f = FabricLevels(tile);
   FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
@@ -220,4 +251,17 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
 #else
   return ShadeFabricLevels(tile, f, fragment);
 #endif
+}
+
+// The fraction of the light arriving from `towards_light` (unit, surface frame)
+// that the cloth at `tile` stops: its coverage alpha for that direction — acquisition's
+// fraction of a texel's rays from there that hit yarn — at the footprint's levels,
+// blended. The shadow pass (shadow_cloth.frag) lets the rest through the holes.
+float FabricCoverage(vec2 tile, FabricFootprint f, vec3 towards_light) {
+  vec2 grid;
+  float beyond_ring;
+  LocateFabricView(towards_light, grid, beyond_ring);
+  float coarse = FetchFabricLut(FabricTexelAt(tile, f.level1), f.level1, grid, beyond_ring).a;
+  float fine = FetchFabricLut(FabricTexelAt(tile, f.level0), f.level0, grid, beyond_ring).a;
+  return mix(fine, coarse, f.blend);
 }
