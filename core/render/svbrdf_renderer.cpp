@@ -46,6 +46,11 @@ std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::v
 constexpr int kShadowUnit = 0;
 constexpr int kFabricUnit = 1;
 
+// Tiles across the object's uv square (t_N).
+glm::vec2 FabricRepeat(const v1::SceneObject& object) {
+  return {object.fabric().repeat_u(), object.fabric().repeat_v()};
+}
+
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
 // Renders the shadow maps the scene's lights need and uploads the lights to each
@@ -145,8 +150,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
     if (fabric == nullptr) {
       opaque_casters.push_back(buffers.back().get());
     } else {
-      const v1::FabricBinding& binding = meshes[i].object->fabric();
-      cloth_casters.push_back({buffers.back().get(), fabric, {binding.repeat_u(), binding.repeat_v()}});
+      cloth_casters.push_back({buffers.back().get(), fabric, FabricRepeat(*meshes[i].object)});
     }
   }
 
@@ -190,7 +194,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
       cloth.Use();
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      fabric->Bind(cloth, kFabricUnit, {object.fabric().repeat_u(), object.fabric().repeat_v()});
+      fabric->Bind(cloth, kFabricUnit, FabricRepeat(object));
     } else {
       opaque_program_.Use();
       opaque_program_.Set("u_base_colour", ToGlm(object.base_colour()));
