@@ -41,7 +41,8 @@ v1::SceneSpec MakeComparisonScene(const ComparisonOptions& o) {
                            R"(, "up": {"x": 0, "y": 1, "z": 0}, "far": )" + str(4 * distance) + R"(,
                "position": {"x": )" + x + R"(, "y": )" + str(dy) + R"(, "z": )" + str(dz) +
                            R"(}, "target": {"x": )" + x + R"(, "y": 0, "z": 0}},
-    "lights": [{"direction": {"x": -0.3, "y": -0.5, "z": 1}, "intensity": 3}],
+    "lights": [{"direction": )" + o.light + R"(, "intensity": 3, "casts_shadows": )" +
+                           (o.shadows ? "true" : "false") + R"(}],
     "render": {"width": )" + std::to_string(o.size) + R"(, "height": )" + std::to_string(o.size) +
                            R"(, "msaa_samples": 4, "reference_samples": )" + std::to_string(o.reference_samples) +
                            R"(, "level_mode": ")" + o.level_mode + R"(", "texel_filter": ")" + o.texel_filter +

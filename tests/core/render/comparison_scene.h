@@ -32,6 +32,8 @@ struct ComparisonOptions {
   float view_height = 1;     // world units the frame spans at the target
   bool perspective = false;  // same view height at the target as the orthographic view
   bool red_floor = false;    // a red plane under the cloth, seen through its holes
+  bool shadows = false;      // the light casts shadows (cloth's onto the floor)
+  std::string light = R"({"x": -0.3, "y": -0.5, "z": 1})";  // towards the light (Vec3 JSON)
   int size = 96;             // pixels a side
   int reference_samples = 64;
   const char* level_mode = "LEVEL_MODE_TRILINEAR";

@@ -9,4 +9,11 @@ double RedFraction(const Image& image) {
   return static_cast<double>(red) / (image.width * image.height);
 }
 
+double MeanRedExcess(const Image& image) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) sum += image.at(x, y, 0) - image.at(x, y, 1);
+  return sum / (image.width * image.height);
+}
+
 }  // namespace loom::testing

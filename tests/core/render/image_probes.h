@@ -9,4 +9,8 @@ namespace loom::testing {
 // a fabric's holes.
 double RedFraction(const Image& image);
 
+// Mean over the pixels of red minus green: the red floor's share of a frame whose
+// cloth is grey.
+double MeanRedExcess(const Image& image);
+
 }  // namespace loom::testing
