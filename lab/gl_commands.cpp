@@ -12,11 +12,15 @@ namespace loom::lab {
 
 void AddGlFlags(CLI::App* command, GlFlags* flags) {
   command->add_flag("--software", flags->software, "Use Mesa's software device (llvmpipe) even if a GPU is present");
+  command->add_option("--gl-device", flags->device,
+                      "EGL device index (as `info` reports it); default: the best device, an NVIDIA GPU first")
+      ->check(CLI::Range(0, 255));
 }
 
 std::unique_ptr<gl::EglContext> MakeContext(const GlFlags& flags) {
   gl::ContextOptions options = gl::DefaultContextOptions();
   options.software_only = flags.software;
+  options.device_index = flags.device;
   return gl::EglContext::Create(options);
 }
 

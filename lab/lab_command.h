@@ -42,6 +42,7 @@ LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags);
 // Shared by the GL subcommands: --software, and the context it asks for.
 struct GlFlags {
   bool software = false;
+  int device = -1;  // EGL device index; −1: the best
 };
 void AddGlFlags(CLI::App* command, GlFlags* flags);
 std::unique_ptr<gl::EglContext> MakeContext(const GlFlags& flags);

@@ -65,6 +65,10 @@ int Main(int argc, char** argv) {
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain: serve TLS")->check(CLI::ExistingFile);
   app.add_option("--tls-key", options.tls_key_file, "PEM private key of --tls-cert")->check(CLI::ExistingFile);
   app.add_flag("--software", software, "Local workers use Mesa's software device (llvmpipe) even with a GPU");
+  app.add_option("--gl-device", options.local_worker.gl.device_index,
+                 "EGL device index for the local workers' GL context (as loom-worker --probe reports it); default: "
+                 "the best device, an NVIDIA GPU first")
+      ->check(CLI::Range(0, 255));
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
 
   options.data_dir = data;

@@ -35,12 +35,14 @@ int Probe(const gl::ContextOptions& options, bool json) {
   if (json) {
     std::cout << nlohmann::json{{"gl_vendor", device.gl_vendor}, {"gl_renderer", device.gl_renderer},
                                 {"gl_version", device.gl_version}, {"egl_platform", device.platform},
+                                {"egl_device_index", device.device_index},
                                 {"software", device.software}, {"cores", cores}, {"memory_gib", memory_gib}}
                      .dump()
               << std::endl;
   } else {
-    std::printf("GL: %s | %s | %s (EGL %s)\ncores: %u\nmemory: %.1f GiB\n", device.gl_vendor.c_str(),
-                device.gl_renderer.c_str(), device.gl_version.c_str(), device.platform.c_str(), cores, memory_gib);
+    std::printf("GL: %s | %s | %s (EGL %s %d)\ncores: %u\nmemory: %.1f GiB\n", device.gl_vendor.c_str(),
+                device.gl_renderer.c_str(), device.gl_version.c_str(), device.platform.c_str(), device.device_index,
+                cores, memory_gib);
   }
   return 0;
 }
@@ -50,6 +52,7 @@ int Main(int argc, char** argv) {
   CLI::App app{"loom-worker " + std::string(kVersion) + ": leases Loom jobs and runs them on a headless GL context"};
   app.set_version_flag("--version", kVersion);
   bool probe = false, json = false, software = false;
+  int gl_device = -1;
   rpc::ChannelOptions channel;
   std::string token_file;
   double lease_wait_seconds = 10;
@@ -57,6 +60,10 @@ int Main(int argc, char** argv) {
   app.add_flag("--probe", probe, "Make the EGL context and print this worker's capabilities, then exit");
   app.add_flag("--json", json, "With --probe: print the capabilities as one JSON object");
   app.add_flag("--software", software, "Use Mesa's software device (llvmpipe) even if a GPU is present");
+  app.add_option("--gl-device", gl_device,
+                 "EGL device index for the GL context (as --probe reports it): one worker per GPU on a machine "
+                 "with several; default: the best device, an NVIDIA GPU first")
+      ->check(CLI::Range(0, 255));
   app.add_option("--server", channel.address, "Server address")->capture_default_str();
   app.add_option("--token-file", token_file,
                  "File holding the worker token (the server's --worker-token-file); none: send no token")
@@ -75,6 +82,7 @@ int Main(int argc, char** argv) {
 
   worker::WorkerOptions options;
   options.gl.software_only = software;
+  options.gl.device_index = gl_device;
   if (probe) return Probe(options.gl, json);
 
   if (!token_file.empty()) channel.token = rpc::ReadTokenFile(token_file);

@@ -76,14 +76,27 @@ std::vector<Candidate> EnumerateCandidates(const ContextOptions& options, std::v
     query_devices(0, nullptr, &count);
     std::vector<EGLDeviceEXT> devices(static_cast<size_t>(std::max(count, 0)));
     if (count > 0) query_devices(count, devices.data(), &count);
+    std::string listed;  // "0: NVIDIA, 1: software"
     for (int i = 0; i < count; ++i) {
       const char* extensions = query_device_string(devices[i], EGL_EXTENSIONS);
       const bool software = HasExtension(extensions, "EGL_MESA_device_software");
       const bool nvidia = HasExtension(extensions, "EGL_NV_device_cuda");
-      if (options.software_only && !software) continue;
+      const std::string kind = nvidia ? " (NVIDIA)" : software ? " (software)" : "";
+      listed += (listed.empty() ? "" : ", ") + std::to_string(i) + ": " +
+                (nvidia ? "NVIDIA" : software ? "software" : "hardware");
+      if (options.device_index >= 0 && i != options.device_index) continue;
+      if (options.software_only && !software) {
+        if (options.device_index >= 0) tried->push_back("device " + std::to_string(i) + kind + ": not a software device");
+        continue;
+      }
       const int rank = nvidia ? 0 : (software ? 2 : 1);
-      candidates.push_back({EGL_PLATFORM_DEVICE_EXT, devices[i], i, rank,
-                            "device " + std::to_string(i) + (nvidia ? " (NVIDIA)" : software ? " (software)" : "")});
+      candidates.push_back({EGL_PLATFORM_DEVICE_EXT, devices[i], i, rank, "device " + std::to_string(i) + kind});
+    }
+    if (options.device_index >= count) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "GL device " + std::to_string(options.device_index) + " does not exist: EGL lists " +
+                      std::to_string(count) + (count == 1 ? " device" : " devices") +
+                      (count > 0 ? " (" + listed + "), indices 0 to " + std::to_string(count - 1) : std::string()));
     }
     if (count == 0) tried->push_back("eglQueryDevicesEXT: no devices");
   } else {
@@ -92,6 +105,7 @@ std::vector<Candidate> EnumerateCandidates(const ContextOptions& options, std::v
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& a, const Candidate& b) { return a.rank < b.rank; });
 
+  if (options.device_index >= 0) return candidates;  // that device or nothing
   if (HasExtension(client_extensions, "EGL_MESA_platform_surfaceless")) {
     candidates.push_back({EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, -1, 3, "surfaceless"});
   } else {

@@ -4,7 +4,7 @@
 // Devices are enumerated with eglQueryDevicesEXT and opened on
 // EGL_PLATFORM_DEVICE_EXT, preferring an NVIDIA GPU, then any other hardware
 // device, then Mesa's software device (llvmpipe); if none gives a context,
-// EGL_PLATFORM_SURFACELESS_MESA is tried. Rendering goes into framebuffer objects
+// EGL_PLATFORM_SURFACELESS_MESA is tried. ContextOptions can pin one device. Rendering goes into framebuffer objects
 // (core/gl/framebuffer.h); the context has no default framebuffer.
 
 #include <EGL/egl.h>
@@ -30,6 +30,11 @@ struct ContextOptions {
   bool debug = false;
   // Skip hardware devices (for comparisons against llvmpipe on a GPU machine).
   bool software_only = false;
+  // Only this EGL device (its index in eglQueryDevicesEXT order, as DeviceInfo and
+  // `loom-worker --probe` report it), for one worker per GPU on a machine with
+  // several; −1: the best device (see above). An index EGL does not list is
+  // Error(kInvalidArgument) naming the devices it does.
+  int device_index = -1;
 };
 
 ContextOptions DefaultContextOptions();

@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "core/gl/framebuffer.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/gl/shader_program.h"
+#include "core/util/error.h"
 
 namespace loom::gl {
 namespace {
@@ -105,6 +108,31 @@ TEST(EglContext, SoftwareOnlyPicksAMesaSoftwareRenderer) {
   options.software_only = true;
   const auto context = EglContext::Create(options);
   EXPECT_TRUE(context->info().software) << context->info().gl_renderer;
+}
+
+// One worker per GPU: a context pinned to the device the default picked is made on
+// that device; an index EGL does not list is a clear error naming the ones it does.
+TEST(EglContext, APinnedDeviceIsTheOneUsed) {
+  const auto best = EglContext::Create();
+  if (best->info().device_index < 0) GTEST_SKIP() << "no EGL device platform here (surfaceless context)";
+  ContextOptions options = DefaultContextOptions();
+  options.device_index = best->info().device_index;
+  const auto pinned = EglContext::Create(options);
+  EXPECT_EQ(pinned->info().device_index, best->info().device_index);
+  EXPECT_EQ(pinned->info().gl_renderer, best->info().gl_renderer);
+}
+
+TEST(EglContext, ADeviceIndexEglDoesNotListIsAClearError) {
+  ContextOptions options = DefaultContextOptions();
+  options.device_index = 1000;
+  try {
+    EglContext::Create(options);
+    FAIL() << "device 1000 made a context";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(error.what()).find("GL device 1000 does not exist: EGL lists"), std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace
