@@ -57,9 +57,10 @@ void ShadowMaps::Render(const std::vector<glm::vec3>& directions, const SceneBou
     cloth_program_.Use();
     cloth_program_.Set("u_view_projection", view_projection);
     cloth_program_.Set("u_towards_light", d);
-    for (const ClothCaster& caster : cloth) {
-      caster.fabric->Bind(cloth_program_, fabric_unit, caster.repeat);
-      caster.mesh->Draw();
+    for (size_t i = 0; i < cloth.size(); ++i) {
+      cloth[i].fabric->Bind(cloth_program_, fabric_unit, cloth[i].repeat);
+      cloth_program_.Set("u_dither_seed", static_cast<int>(i));
+      cloth[i].mesh->Draw();
     }
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -15,6 +15,7 @@ in vec4 v_tangent;
 in vec2 v_uv;
 
 uniform vec3 u_towards_light;  // unit, world
+uniform int u_dither_seed;     // the caster's index: two cloth objects never share a pattern
 
 // Bayer's 4×4 thresholds, (i + ½)/16 in this order.
 const float kBayer[16] = float[](0.0, 8.0, 2.0, 10.0, 12.0, 4.0, 14.0, 6.0, 3.0, 11.0, 1.0, 9.0, 15.0, 7.0, 13.0, 5.0);
@@ -24,11 +25,14 @@ void main() {
   vec3 light = transpose(frame) * u_towards_light;
   vec2 tile = FabricTile(v_uv, light);
   float coverage = FabricCoverage(tile, FabricLevels(tile), light);
-  // The pattern is shifted per tile, so two layers of cloth over one map texel
-  // seldom share a threshold: light through both is (1 − a₁)(1 − a₂), not 1 − max.
+  // The pattern is shifted per tile and per object, so two layers of cloth over one
+  // map texel seldom share a threshold: light through both is (1 − a₁)(1 − a₂), not
+  // 1 − max(a₁, a₂). (A fold is one object: its layers differ in tile.)
   uvec2 index = uvec2(ivec2(floor(tile)));
-  uint h = index.x * 0x9E3779B9u ^ index.y * 0x85EBCA6Bu;
+  uint h = index.x * 0x9E3779B9u ^ index.y * 0x85EBCA6Bu ^ uint(u_dither_seed) * 0xC2B2AE35u;
   h ^= h >> 15;
+  h *= 0x27D4EB2Fu;
+  h ^= h >> 13;
   ivec2 p = (ivec2(gl_FragCoord.xy) + ivec2(h & 3u, (h >> 2) & 3u)) & 3;
   if (coverage <= (kBayer[p.y * 4 + p.x] + 0.5) / 16.0) discard;
 }

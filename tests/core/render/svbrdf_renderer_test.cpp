@@ -172,6 +172,7 @@ std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level
          R"(, "level_mode": ")" + level_mode + R"("}})";
 }
 
+// The scene with `data` as the fabric of every object that has one.
 RenderedFrame RenderCloth(const std::string& json, const FabricTextureData& data) {
   const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
   ValidateOrThrow(scene);
@@ -180,8 +181,20 @@ RenderedFrame RenderCloth(const std::string& json, const FabricTextureData& data
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
   FabricTextures textures(data, /*half=*/false);
   std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
-  fabrics[0] = &textures;
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    if (meshes[i].object->has_fabric()) fabrics[i] = &textures;
+  }
   return renderer.Render(scene, meshes, fabrics);
+}
+
+// A white fabric of coverage `a` from every direction, on every level.
+FabricTextureData CoveringFabric(float a) {
+  FabricTextureData data = DiffuseFabric(8, 3, glm::vec3(1.0f));
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        for (uint32_t view = 0; view < 9; ++view) data.Lut(level, x, y, view).a = a;
+  return data;
 }
 
 TEST(SvbrdfFabric, DiffuseFabricMatchesLambertExactly) {
@@ -232,12 +245,7 @@ TEST(SvbrdfFabric, ClothLetsLightThroughItsHolesOntoTheFloor) {
   const std::string light = R"("intensity": 2})";
   scene.replace(scene.find(light), light.size(), R"("intensity": 2, "casts_shadows": true})");
   for (const float a : {0.25f, 0.5f, 0.75f}) {
-    FabricTextureData data = DiffuseFabric(8, 3, glm::vec3(1.0f));
-    for (uint32_t level = 0; level < data.levels(); ++level)
-      for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
-        for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
-          for (uint32_t view = 0; view < 9; ++view) data.Lut(level, x, y, view).a = a;
-    const RenderedFrame frame = RenderCloth(scene, data);
+    const RenderedFrame frame = RenderCloth(scene, CoveringFabric(a));
     const float lit = 2.0f / glm::pi<float>();
     double visibility = 0.0;
     int pixels = 0;
@@ -249,6 +257,59 @@ TEST(SvbrdfFabric, ClothLetsLightThroughItsHolesOntoTheFloor) {
       }
     EXPECT_NEAR(visibility / pixels, 1.0 - a, 0.01) << "coverage " << a;  // measured within 0.003
   }
+}
+
+// Two layers of cloth of coverage ½ (z = 0 and −0.2, x from −1 to 1) under a light
+// 45° off the zenith towards −x: on the floor (z = −0.5) their shadows, thrown 0.5
+// and 0.3 to +x, overlap from x = 1 to 1.3, and the upper layer's alone reaches 1.5.
+// Light through both layers is ¼ (independent holes; measured 0.26 over the 32
+// tiles a side), through one ½. The camera looks straight down at x 1 to 2.
+TEST(SvbrdfFabric, TwoLayersOfClothLetThroughTheProductOfTheirHoles) {
+  const std::string cloth = R"({"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"translation": {"z": Z}, "scale": {"x": 2, "y": 2, "z": 1}},
+      "fabric": {"fabric": {"knit": {}}, "repeat_u": 32, "repeat_v": 32}})";
+  const auto at = [&](const char* z) { std::string c = cloth; return c.replace(c.find('Z'), 1, z); };
+  const std::string scene = R"({"objects": [)" + at("0") + ", " + at("-0.2") + R"(,
+      {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"translation": {"z": -0.5}, "scale": {"x": 8, "y": 8, "z": 1}},
+       "base_colour": {"r": 1, "g": 0, "b": 0}}],
+    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 1, "position": {"x": 1.5, "y": 0, "z": 5},
+               "target": {"x": 1.5, "y": 0, "z": 0}, "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
+    "lights": [{"direction": {"x": -1, "y": 0, "z": 1}, "intensity": 2, "casts_shadows": true}],
+    "render": {"width": 64, "height": 64, "msaa_samples": 1}})";
+  const Image image = RenderCloth(scene, CoveringFabric(0.5f)).image;
+  // Mean red over columns [x0, x1) (64 px a unit from x = 1), rows clear of the map's edges.
+  const auto red = [&](int x0, int x1) {
+    double sum = 0.0;
+    for (int y = 8; y < 56; ++y)
+      for (int x = x0; x < x1; ++x) sum += image.at(x, y, 0);
+    return sum / (48.0 * (x1 - x0));
+  };
+  const double lit = red(40, 64);             // x 1.63 to 2: no shadow
+  EXPECT_NEAR(red(3, 16) / lit, 0.25, 0.03);  // x 1.05 to 1.25: both layers
+  EXPECT_NEAR(red(22, 30) / lit, 0.5, 0.03);  // x 1.34 to 1.47: the upper layer only
+}
+
+// The same two layers stacked exactly (a zenith light, the same uv under every
+// point): each object dithers with its own pattern, so the floor seen head-on
+// through both gets (1 − a)² of the light, not the (1 − a) of one pattern shared. A
+// pixel's red over its green is the floor's share: (1 − a)² of it shows through the
+// white layers, lit at 2/π · (1 − a)².
+TEST(SvbrdfFabric, TwoStackedLayersOfClothDoNotShareTheirHoles) {
+  // 32 tiles a side: the dither's shift changes per tile, and the overlap of two
+  // shifted patterns is 0 or ½ per tile at a = ½, ¼ only over many tiles.
+  std::string scene = ClothScene(32, true, 1, "LEVEL_MODE_TRILINEAR");
+  const std::string light = R"("intensity": 2})";
+  scene.replace(scene.find(light), light.size(), R"("intensity": 2, "casts_shadows": true})");
+  const std::string objects = R"({"objects": [)";
+  scene.insert(scene.find(objects) + objects.size(), R"({"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+      "transform": {"translation": {"z": -0.2}, "scale": {"x": 2, "y": 2, "z": 1}},
+      "fabric": {"fabric": {"knit": {}}, "repeat_u": 32, "repeat_v": 32}}, )");
+  const Image image = RenderCloth(scene, CoveringFabric(0.5f)).image;
+  double excess = 0.0;
+  for (int y = 16; y < 48; ++y)
+    for (int x = 16; x < 48; ++x) excess += image.at(x, y, 0) - image.at(x, y, 1);
+  const double through = excess / (32.0 * 32.0) / (0.25 * 2.0 / glm::pi<double>());
+  EXPECT_NEAR(through, 0.25, 0.05);  // measured 0.289; one pattern shared: 0.500
 }
 
 // Beyond the outermost stored ring of views alpha rises linearly (in grid
