@@ -16,4 +16,11 @@ double MeanRedExcess(const Image& image) {
   return sum / (image.width * image.height);
 }
 
+double MeanRedInColumns(const Image& image, int x0, int x1) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = x0; x < x1; ++x) sum += image.at(x, y, 0);
+  return sum / (double(x1 - x0) * image.height);
+}
+
 }  // namespace loom::testing

@@ -13,4 +13,7 @@ double RedFraction(const Image& image);
 // cloth is grey.
 double MeanRedExcess(const Image& image);
 
+// Mean red over the pixel columns [x0, x1), every row.
+double MeanRedInColumns(const Image& image, int x0, int x1);
+
 }  // namespace loom::testing

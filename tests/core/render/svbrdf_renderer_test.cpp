@@ -12,6 +12,7 @@
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
+#include "tests/core/render/image_probes.h"
 
 namespace loom {
 namespace {
@@ -277,16 +278,10 @@ TEST(SvbrdfFabric, TwoLayersOfClothLetThroughTheProductOfTheirHoles) {
     "lights": [{"direction": {"x": -1, "y": 0, "z": 1}, "intensity": 2, "casts_shadows": true}],
     "render": {"width": 64, "height": 64, "msaa_samples": 1}})";
   const Image image = RenderCloth(scene, CoveringFabric(0.5f)).image;
-  // Mean red over columns [x0, x1) (64 px a unit from x = 1), rows clear of the map's edges.
-  const auto red = [&](int x0, int x1) {
-    double sum = 0.0;
-    for (int y = 8; y < 56; ++y)
-      for (int x = x0; x < x1; ++x) sum += image.at(x, y, 0);
-    return sum / (48.0 * (x1 - x0));
-  };
-  const double lit = red(40, 64);             // x 1.63 to 2: no shadow
-  EXPECT_NEAR(red(3, 16) / lit, 0.25, 0.03);  // x 1.05 to 1.25: both layers
-  EXPECT_NEAR(red(22, 30) / lit, 0.5, 0.03);  // x 1.34 to 1.47: the upper layer only
+  // Columns at 64 px a unit from x = 1.
+  const double lit = testing::MeanRedInColumns(image, 40, 64);             // x 1.63 to 2: no shadow
+  EXPECT_NEAR(testing::MeanRedInColumns(image, 3, 16) / lit, 0.25, 0.03);  // x 1.05 to 1.25: both layers
+  EXPECT_NEAR(testing::MeanRedInColumns(image, 22, 30) / lit, 0.5, 0.03);  // x 1.34 to 1.47: the upper only
 }
 
 // The same two layers stacked exactly (a zenith light, the same uv under every
