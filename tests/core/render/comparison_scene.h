@@ -37,7 +37,7 @@ struct ComparisonOptions {
   int size = 96;             // pixels a side
   int reference_samples = 64;
   const char* level_mode = "LEVEL_MODE_TRILINEAR";
-  const char* texel_filter = "TEXEL_FILTER_NEAREST";
+  const char* texel_filter = "TEXEL_FILTER_UNSPECIFIED";  // the renderer's default: bilinear
 };
 
 // The scene, defaults applied and validated. The camera stands far enough back

@@ -155,7 +155,8 @@ FabricTextureData DiffuseFabric(uint32_t resolution, uint32_t view_side, glm::ve
 }
 
 // The plane of PlaneScene as cloth with `repeat` tiles, optionally over a red plane,
-// seen `tilt_degrees` off the normal (the camera moves towards −y).
+// seen `tilt_degrees` off the normal (the camera moves towards −y). Nearest texels,
+// so that a pixel shows the one texel the tests probe.
 std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR",
                        float tilt_degrees = 0.0f) {
   const float tilt = glm::radians(tilt_degrees);
@@ -170,7 +171,7 @@ std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level
                "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
     "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2}],
     "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) +
-         R"(, "level_mode": ")" + level_mode + R"("}})";
+         R"(, "level_mode": ")" + level_mode + R"(", "texel_filter": "TEXEL_FILTER_NEAREST"}})";
 }
 
 // The scene with `data` as the fabric of every object that has one.

@@ -145,6 +145,7 @@ TEST(SvbrdfVsReference, BilinearTexelsAreCloserToTheReferenceThanNearestCloseUpA
     options.repeat = repeat;
     options.tilt_degrees = tilt_degrees;
     const Image reference = RenderReference(MakeComparisonScene(options));
+    options.texel_filter = "TEXEL_FILTER_NEAREST";
     const double nearest = CompareImages(RenderSvbrdf(MakeComparisonScene(options)), reference).psnr_db;
     options.texel_filter = "TEXEL_FILTER_BILINEAR";
     const double bilinear = CompareImages(RenderSvbrdf(MakeComparisonScene(options)), reference).psnr_db;

@@ -632,6 +632,7 @@ TEST(Defaults, RenderSettings) {
   EXPECT_EQ(s.height(), 540u);
   EXPECT_EQ(s.msaa_samples(), 4u);
   EXPECT_EQ(s.level_mode(), v1::LEVEL_MODE_TRILINEAR);
+  EXPECT_EQ(s.texel_filter(), v1::TEXEL_FILTER_BILINEAR);
   EXPECT_EQ(s.shadow_map_size(), 2048u);
   EXPECT_EQ(s.reference_samples(), 64u);
   EXPECT_EQ(s.format(), v1::IMAGE_FORMAT_UNSPECIFIED);
