@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <glm/glm.hpp>
 #include <map>
 
@@ -253,6 +252,7 @@ class Sweep {
     // The settings the cloth was precomputed with (a plan configuration chooses per scene).
     const v1::PrecomputeSettings precompute = WithDefaults(configured.objects(0).fabric().precompute());
     const v1::RenderSettings& render = configured.render();
+    const RenderColumns render_columns = SweepRenderColumns(render);
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
     results_.Append({configuration.name, scene.name, svbrdf ? "svbrdf" : "reference", scene.fabric, scene.view,
                      scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
@@ -264,9 +264,8 @@ class Sweep {
                      when_svbrdf(precompute.lookup_table() ? "1" : "0"),
                      when_svbrdf(std::to_string(precompute.supersampling())),
                      when_svbrdf(std::to_string(precompute.seed())),
-                     when_svbrdf(v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_"))),
-                     when_svbrdf(v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_"))),
-                     when_svbrdf(std::to_string(render.msaa_samples())),
+                     when_svbrdf(render_columns.level_mode), when_svbrdf(render_columns.texel_filter),
+                     when_svbrdf(render_columns.msaa_samples),
                      svbrdf ? std::string() : std::to_string(render.reference_samples()),
                      Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),
                      std::to_string(precomputed.asset_bytes), Number(Fastest(frames.cpu_ms)),

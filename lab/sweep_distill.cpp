@@ -8,7 +8,9 @@
 #include <set>
 #include <utility>
 
+#include "core/spec/defaults.h"
 #include "core/util/error.h"
+#include "lab/sweep_results.h"
 
 namespace loom::lab {
 namespace {
@@ -98,6 +100,21 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                                  baseline + "'");
   }
   const auto& base = rows.at(baseline);
+  // The figures are changes against the baseline as rendered: the planner applies
+  // them to the default render, so a baseline rendered otherwise (a sweep measured
+  // before the defaults changed) would describe another renderer.
+  const RenderColumns default_render = SweepRenderColumns(WithDefaults(v1::RenderSettings()));
+  for (const auto& [scene_name, b] : base) {
+    const RenderColumns rendered{b.level_mode, b.texel_filter, b.msaa};
+    if (rendered == default_render) continue;
+    const auto describe = [](const RenderColumns& r) {
+      return "level_mode " + r.level_mode + ", texel_filter " + r.texel_filter + ", msaa_samples " + r.msaa_samples;
+    };
+    throw Error(ErrorCode::kInvalidArgument, "sweep CSV: the baseline '" + baseline + "' on scene " + scene_name +
+                                                 " was rendered with " + describe(rendered) +
+                                                 ", but the default render is " + describe(default_render) +
+                                                 ": render the sweep's svbrdf rows again with the defaults");
+  }
   using SceneClass = std::pair<FootprintClass, FabricKind>;
   std::map<SceneClass, int> base_scenes;
   for (const auto& [scene_name, b] : base) ++base_scenes[{ClassifyFootprint(b.footprint), b.kind}];
@@ -191,7 +208,10 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
 std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations) {
   static const char* kClass[] = {"kNear", "kMid", "kFar"};
   static const char* kKind[] = {"kKnitMatte", "kKnitGlossy", "kWovenMatte", "kWovenGlossy"};
-  std::string text;
+  std::string text =
+      "// {configuration, footprint class, fabric kind, spatial_resolution, directions, lobes, lookup_table, "
+      "supersampling,\n//  mean PSNR change dB, worst PSNR change dB, precompute CPU-time ratio, bytes ratio, "
+      "scenes}\n";
   for (const MeasuredVariation& v : variations) {
     char line[512];
     std::snprintf(line, sizeof line,

@@ -26,10 +26,13 @@
 
 namespace loom::lab {
 
-// Error(kInvalidArgument) if the CSV has no svbrdf rows of `baseline`.
+// Error(kInvalidArgument) if the CSV has no svbrdf rows of `baseline`, or if they
+// were rendered otherwise than the default render settings (core/spec/defaults.h),
+// which the planner's figures describe.
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline = "default");
 
-// The variations as C++ initialisers for core/plan/standard_sweep_table.inc.
+// The variations as C++ initialisers for core/plan/standard_sweep_table.inc, after a
+// comment naming the fields.
 std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations);
 
 }  // namespace loom::lab

@@ -1,10 +1,18 @@
 #include "lab/sweep_results.h"
 
+#include <cstring>
+
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 #include "lab/csv_table.h"
 
 namespace loom::lab {
+
+RenderColumns SweepRenderColumns(const v1::RenderSettings& render) {
+  return {v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_")),
+          v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_")),
+          std::to_string(render.msaa_samples())};
+}
 
 SweepResults::SweepResults(std::filesystem::path path, std::vector<std::string> columns)
     : path_(std::move(path)), columns_(std::move(columns)) {

@@ -12,7 +12,18 @@
 #include <utility>
 #include <vector>
 
+#include "loom/v1/scene.pb.h"
+
 namespace loom::lab {
+
+// An svbrdf row's render columns (level_mode, texel_filter, msaa_samples): the
+// enums' names without their prefixes, as the sweep writes them and the planner's
+// distill checks them.
+struct RenderColumns {
+  std::string level_mode, texel_filter, msaa_samples;
+  bool operator==(const RenderColumns&) const = default;
+};
+RenderColumns SweepRenderColumns(const v1::RenderSettings& render);
 
 class SweepResults {
  public:

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <tuple>
 
 #include "core/util/error.h"
 #include "core/util/file_io.h"
@@ -22,16 +23,17 @@ CsvTable Table(std::vector<std::vector<std::string>> rows) {
   return table;
 }
 
-// One svbrdf row: `settings` = resolution, views, lights, lobes, LUT, supersampling.
+// One svbrdf row: `settings` = resolution, views, lights, lobes, LUT, supersampling;
+// rendered with the default render settings unless `level` or `filter` say otherwise.
 std::vector<std::string> Row(const std::string& configuration, const std::string& scene, double footprint,
                              double psnr, double seconds, double bytes, std::vector<std::string> settings,
                              const std::string& level = "TRILINEAR", const std::string& kind = "knit-matte",
-                             const std::string& seed = "0") {
+                             const std::string& seed = "0", const std::string& filter = "BILINEAR") {
   std::vector<std::string> row = {configuration, scene, "svbrdf", std::to_string(footprint), kind, std::to_string(psnr),
                                   std::to_string(seconds), std::to_string(bytes)};
   row.insert(row.end(), settings.begin(), settings.end());
   row.push_back(level);
-  row.push_back("NEAREST");
+  row.push_back(filter);
   row.push_back("4");
   row.push_back(seed);
   return row;
@@ -169,6 +171,30 @@ TEST(SweepDistill, RejectsAnUnknownFabricKindNamingIt) {
 
 TEST(SweepDistill, NeedsTheBaseline) {
   EXPECT_THROW(DistillSweep(Table({Row("lobes1", "a", 64, 19, 5, 90, kDefault)})), Error);
+}
+
+// The planner applies the figures to the default render: a sweep whose baseline
+// was rendered otherwise (measured before the defaults changed) is refused, naming
+// what differs, rather than distilled into figures of another renderer.
+TEST(SweepDistill, RefusesABaselineNotRenderedWithTheDefaultRenderSettings) {
+  const auto distill = [](const std::string& level, const std::string& filter) {
+    DistillSweep(Table({Row("default", "a", 64, 20, 10, 100, kDefault, level, "knit-matte", "0", filter),
+                        Row("lobes1", "a", 64, 19, 5, 90, kLobes1, level, "knit-matte", "0", filter)}));
+  };
+  EXPECT_NO_THROW(distill("TRILINEAR", "BILINEAR"));
+  for (const auto& [level, filter, named] : {std::tuple{"TRILINEAR", "NEAREST", "texel_filter NEAREST"},
+                                             std::tuple{"NONE", "BILINEAR", "level_mode NONE"}}) {
+    try {
+      distill(level, filter);
+      FAIL() << named;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("the default render is level_mode TRILINEAR, texel_filter BILINEAR"),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace
