@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
 usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CSV...]] | tables.py seeds SEEDS_CSV SWEEP_CSV
-       | tables.py variations DISTANCE FABRIC_KIND CSV...
+       | tables.py variations DISTANCE FABRIC_KIND CSV... | tables.py change CONFIGURATION BASELINE SWEEP_CSV
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, re, statistics, sys
@@ -185,11 +185,35 @@ def variations(distance, kind, paths):
         print(f"| {scene} | {d:.2f} ({len(by['default'])}) | " + " | ".join(cells) + " |")
     print("| **worst** | | " + " | ".join(f"**{worst[v]:+.2f}**" for v in shown) + " |")
 
+def change(configuration, baseline, path):
+    """PSNR of `configuration` against `baseline` on every scene both ran on: mean,
+    median, how many scenes moved by more than 0.1 dB either way, and per distance
+    the mean and the extremes (the figures quoted for level modes and texel filters)."""
+    table = rows(path)
+    base = {r["scene"]: num(r["psnr_db"]) for r in table if r["configuration"] == baseline}
+    by_distance = {}
+    for r in table:
+        if r["configuration"] == configuration and r["scene"] in base:
+            d = num(r["psnr_db"]) - base[r["scene"]]
+            if math.isfinite(d):
+                by_distance.setdefault(r["distance"], []).append((d, r["scene"]))
+    every = [x for v in by_distance.values() for x in v]
+    values = [d for d, _ in every]
+    print(f"| {configuration} against {baseline} | scenes | mean dB | median dB | worst | best |")
+    print("|---|---|---|---|---|---|")
+    for label, v in [("all", every)] + [(d, by_distance[d]) for d in ("near", "mid", "far") if d in by_distance]:
+        worst, best = min(v), max(v)
+        print(f"| {label} | {len(v)} | {statistics.mean(d for d, _ in v):+.2f} | {statistics.median(d for d, _ in v):+.2f} | "
+              f"{worst[0]:+.2f} ({worst[1]}) | {best[0]:+.2f} ({best[1]}) |")
+    print(f"\nbetter by more than 0.1 dB on {sum(d > 0.1 for d in values)} scenes, worse on {sum(d < -0.1 for d in values)}")
+
 if __name__ == "__main__":
     if sys.argv[1] == "sweep":
         sweep(sys.argv[2])
     elif sys.argv[1] == "seeds":
         seeds(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "change":
+        change(sys.argv[2], sys.argv[3], sys.argv[4])
     elif sys.argv[1] == "variations":
         variations(sys.argv[2], sys.argv[3], sys.argv[4:])
     else:
