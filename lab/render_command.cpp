@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -75,6 +76,7 @@ Image RenderReference(const v1::SceneSpec& scene, const std::vector<SceneMesh>& 
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
     std::string scene, out, method, level_mode, texel_filter, fabric_cache;
+    std::optional<float> lod_bias;
     int frames = 1;
     GlFlags gl;
   };
@@ -89,6 +91,8 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--texel-filter", options->texel_filter,
                       "svbrdf texel filter (default: the scene's render.texel_filter)")
       ->check(CLI::IsMember({"nearest", "bilinear"}));
+  command->add_option("--lod-bias", options->lod_bias,
+                      "svbrdf levels added to the footprint's, below 0 finer (default: the scene's render.lod_bias)");
   command->add_option("--frames", options->frames,
                       "svbrdf: render this many frames and report the fastest (the first compiles and allocates)")
       ->check(CLI::Range(1, 1000));
@@ -112,6 +116,7 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
               v1::TexelFilter_Parse(EnumName("TEXEL_FILTER_", options->texel_filter), &filter);
               render.set_texel_filter(filter);
             }
+            if (options->lod_bias) render.set_lod_bias(*options->lod_bias);  // validated with the scene
             scene = WithDefaults(scene);
             ValidateOrThrow(scene);
             const auto meshes =

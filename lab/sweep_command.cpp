@@ -41,7 +41,7 @@ const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "fabric", "view", "distance", "tile_pixels",
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-    "supersampling", "seed", "level_mode", "texel_filter", "msaa_samples", "reference_samples",
+    "supersampling", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "reference_samples",
     "precompute_seconds", "precompute_cpu_seconds", "asset_bytes", "frame_ms", "gpu_ms",
     "rmse", "psnr_db", "perceptual_error", "flicker", "load_average"};
 
@@ -265,7 +265,7 @@ class Sweep {
                      when_svbrdf(std::to_string(precompute.supersampling())),
                      when_svbrdf(std::to_string(precompute.seed())),
                      when_svbrdf(render_columns.level_mode), when_svbrdf(render_columns.texel_filter),
-                     when_svbrdf(render_columns.msaa_samples),
+                     when_svbrdf(render_columns.msaa_samples), when_svbrdf(render_columns.lod_bias),
                      svbrdf ? std::string() : std::to_string(render.reference_samples()),
                      Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),
                      std::to_string(precomputed.asset_bytes), Number(Fastest(frames.cpu_ms)),

@@ -20,7 +20,7 @@ struct Measured {
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
   std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, texel_filter, msaa,
-      seed;
+      lod_bias, seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
@@ -28,7 +28,7 @@ double ToNumber(const std::string& field) { return field.empty() ? NAN : std::st
 // What a row was fitted and rendered with, as far as the CSV says, its seed left out.
 std::string Settings(const Measured& m) {
   return m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
-         m.supersampling + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa;
+         m.supersampling + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias;
 }
 
 // Every row takes the mean figures over the seeds measured on its scene with its
@@ -80,7 +80,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
                views = column("view_directions"), lights = column("light_directions"), lobes = column("lobes"),
                lut = column("lookup_table"), supersampling = column("supersampling"), level = column("level_mode"),
-               filter = column("texel_filter"), msaa = column("msaa_samples"), seed = column("seed");
+               filter = column("texel_filter"), msaa = column("msaa_samples"), lod_bias = column("lod_bias"),
+               seed = column("seed");
   // configuration → scene → figures, in order of first appearance.
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, Measured>> rows;
@@ -92,7 +93,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                             ToNumber(row[bytes]), row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
                                             row[supersampling], row[level],         row[filter],
-                                            row[msaa],          row[seed]};
+                                            row[msaa],          row[lod_bias],      row[seed]};
   }
   AverageRepeats(rows);
   if (!rows.contains(baseline)) {
@@ -105,10 +106,11 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   // before the defaults changed) would describe another renderer.
   const RenderColumns default_render = SweepRenderColumns(WithDefaults(v1::RenderSettings()));
   for (const auto& [scene_name, b] : base) {
-    const RenderColumns rendered{b.level_mode, b.texel_filter, b.msaa};
+    const RenderColumns rendered{b.level_mode, b.texel_filter, b.msaa, b.lod_bias};
     if (rendered == default_render) continue;
     const auto describe = [](const RenderColumns& r) {
-      return "level_mode " + r.level_mode + ", texel_filter " + r.texel_filter + ", msaa_samples " + r.msaa_samples;
+      return "level_mode " + r.level_mode + ", texel_filter " + r.texel_filter + ", msaa_samples " + r.msaa_samples +
+             ", lod_bias " + r.lod_bias;
     };
     throw Error(ErrorCode::kInvalidArgument, "sweep CSV: the baseline '" + baseline + "' on scene " + scene_name +
                                                  " was rendered with " + describe(rendered) +
@@ -142,7 +144,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       const auto found = base.find(scene_name);
       if (found == base.end()) continue;
       const Measured& b = found->second;
-      if (m.level_mode != b.level_mode || m.texel_filter != b.texel_filter || m.msaa != b.msaa) {
+      if (m.level_mode != b.level_mode || m.texel_filter != b.texel_filter || m.msaa != b.msaa ||
+          m.lod_bias != b.lod_bias) {
         single_change = false;  // renders differently: not a precompute variation
         break;
       }

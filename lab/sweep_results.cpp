@@ -1,5 +1,6 @@
 #include "lab/sweep_results.h"
 
+#include <cstdio>
 #include <cstring>
 
 #include "core/util/error.h"
@@ -8,10 +9,21 @@
 
 namespace loom::lab {
 
+namespace {
+
+// Shortest exact text: "0", "-0.5".
+std::string FormatLodBias(float bias) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", static_cast<double>(bias));
+  return text;
+}
+
+}  // namespace
+
 RenderColumns SweepRenderColumns(const v1::RenderSettings& render) {
   return {v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_")),
           v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_")),
-          std::to_string(render.msaa_samples())};
+          std::to_string(render.msaa_samples()), FormatLodBias(render.lod_bias())};
 }
 
 SweepResults::SweepResults(std::filesystem::path path, std::vector<std::string> columns)

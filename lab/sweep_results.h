@@ -16,11 +16,11 @@
 
 namespace loom::lab {
 
-// An svbrdf row's render columns (level_mode, texel_filter, msaa_samples): the
-// enums' names without their prefixes, as the sweep writes them and the planner's
-// distill checks them.
+// An svbrdf row's render columns (level_mode, texel_filter, msaa_samples,
+// lod_bias): the enums' names without their prefixes and the numbers, as the sweep
+// writes them and the planner's distill checks them.
 struct RenderColumns {
-  std::string level_mode, texel_filter, msaa_samples;
+  std::string level_mode, texel_filter, msaa_samples, lod_bias;
   bool operator==(const RenderColumns&) const = default;
 };
 RenderColumns SweepRenderColumns(const v1::RenderSettings& render);

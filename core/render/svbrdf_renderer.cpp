@@ -182,6 +182,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   cloth.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
   cloth.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
   cloth.Set("u_level_mode", static_cast<int>(settings.level_mode()));
+  cloth.Set("u_lod_bias", settings.lod_bias());
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what

@@ -19,6 +19,7 @@ uniform int u_fabric_view_side;          // k: the LUT's view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
 uniform float u_fabric_sampling_height;  // tile z of the face the texels were sampled on
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
+uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
 
 // A texel of one level; its frame is in tile (= surface) space.
 struct FabricTexel {
@@ -166,7 +167,7 @@ FabricFootprint FabricLevels(vec2 tile) {
 #else
   float lambda = 0.5 * log2(max(lu * lv, 1e-16));
 #endif
-  lambda = clamp(lambda, 0.0, float(u_fabric_levels - 1));
+  lambda = clamp(lambda + u_lod_bias, 0.0, float(u_fabric_levels - 1));
   if (u_level_mode == 1) lambda = 0.0;
   if (u_level_mode == 2) lambda = floor(lambda + 0.5);
   f.level0 = int(floor(lambda));

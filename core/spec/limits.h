@@ -122,5 +122,8 @@ inline constexpr uint32_t kMinShadowMapSize = 256;
 inline constexpr uint32_t kMaxShadowMapSize = 8192;
 // Reference renderer samples per pixel; bounds ray-tracing time per frame.
 inline constexpr uint32_t kMaxReferenceSamples = 4096;
+// svbrdf level-of-detail bias in levels: beyond it a frame shows level 0 or the
+// coarsest level wherever a texel is within 16× a pixel.
+inline constexpr float kMaxLodBias = 4.0f;
 
 }  // namespace loom

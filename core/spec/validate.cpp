@@ -378,6 +378,7 @@ void CheckRender(const v1::RenderSettings& settings, const IssueCollector& at) {
   at.Range("shadow_map_size", settings.shadow_map_size(), kMinShadowMapSize, kMaxShadowMapSize);
   at.PowerOfTwo("shadow_map_size", settings.shadow_map_size());
   at.Range("reference_samples", settings.reference_samples(), 1, kMaxReferenceSamples);
+  at.Range("lod_bias", settings.lod_bias(), -kMaxLodBias, kMaxLodBias);
 }
 
 // --- SceneSpec ------------------------------------------------------------------------

@@ -66,7 +66,7 @@ def sweep(path):
         print(f"| {label} | {n} | " + " | ".join(cells) + " |")
 
 SETTINGS = ("spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-            "supersampling", "level_mode", "texel_filter", "msaa_samples")
+            "supersampling", "level_mode", "texel_filter", "msaa_samples", "lod_bias")
 
 def seed_means(tables):
     """(scene, settings) → mean PSNR over the distinct seeds in `tables`, as

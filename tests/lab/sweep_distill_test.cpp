@@ -18,7 +18,7 @@ CsvTable Table(std::vector<std::vector<std::string>> rows) {
   table.columns = {"configuration", "scene",         "method",        "footprint_pixels", "fabric_kind", "psnr_db",
                    "precompute_cpu_seconds", "asset_bytes", "spatial_resolution", "view_directions",
                    "light_directions",   "lobes",       "lookup_table",  "supersampling",    "level_mode",
-                   "texel_filter",       "msaa_samples",       "seed"};
+                   "texel_filter",       "msaa_samples",       "lod_bias",  "seed"};
   table.rows = std::move(rows);
   return table;
 }
@@ -35,6 +35,7 @@ std::vector<std::string> Row(const std::string& configuration, const std::string
   row.push_back(level);
   row.push_back(filter);
   row.push_back("4");
+  row.push_back("0");
   row.push_back(seed);
   return row;
 }

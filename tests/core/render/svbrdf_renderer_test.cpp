@@ -158,7 +158,7 @@ FabricTextureData DiffuseFabric(uint32_t resolution, uint32_t view_side, glm::ve
 // seen `tilt_degrees` off the normal (the camera moves towards −y). Nearest texels,
 // so that a pixel shows the one texel the tests probe.
 std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR",
-                       float tilt_degrees = 0.0f) {
+                       float tilt_degrees = 0.0f, float lod_bias = 0.0f) {
   const float tilt = glm::radians(tilt_degrees);
   const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
       "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
@@ -171,7 +171,8 @@ std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level
                "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
     "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2}],
     "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) +
-         R"(, "level_mode": ")" + level_mode + R"(", "texel_filter": "TEXEL_FILTER_NEAREST"}})";
+         R"(, "level_mode": ")" + level_mode + R"(", "texel_filter": "TEXEL_FILTER_NEAREST", "lod_bias": )" +
+         std::to_string(lod_bias) + "}}";
 }
 
 // The scene with `data` as the fabric of every object that has one.
@@ -373,6 +374,23 @@ TEST(SvbrdfFabric, LevelModesPickTheFittedLevel) {
   // Seen head-on the footprint is round: anisotropic shades once, where trilinear does.
   EXPECT_NEAR(grey(RenderCloth(ClothScene(32, false, 1, "LEVEL_MODE_ANISOTROPIC"), data)), 0.2f, 2e-3f);
   EXPECT_NEAR(grey(RenderCloth(ClothScene(64, false, 1, "LEVEL_MODE_ANISOTROPIC"), data)), 0.3f, 2e-3f);
+}
+
+TEST(SvbrdfFabric, LodBiasShiftsTheLevelWithinTheChainButNotLevelZeroOnly) {
+  FabricTextureData data = DiffuseFabric(4, 3, glm::vec3(0.0f));  // levels 4, 2, 1 texels: greys 0.1, 0.2, 0.3
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(0.1f * (level + 1)), 0.0f);
+  const auto grey = [&](const char* mode, float bias) {
+    return RenderCloth(ClothScene(32, false, 1, mode, 0.0f, bias), data).image.at(30, 30, 0) / 2.0f;
+  };
+  // 32 tiles over 64 px: λ = 1.
+  EXPECT_NEAR(grey("LEVEL_MODE_NEAREST", -1.0f), 0.1f, 1e-5f);
+  EXPECT_NEAR(grey("LEVEL_MODE_NEAREST", 1.0f), 0.3f, 1e-5f);
+  EXPECT_NEAR(grey("LEVEL_MODE_NEAREST", 3.0f), 0.3f, 1e-5f);  // clamped to the coarsest level
+  EXPECT_NEAR(grey("LEVEL_MODE_TRILINEAR", -0.5f), 0.15f, 2e-3f);
+  EXPECT_NEAR(grey("LEVEL_MODE_NONE", 1.0f), 0.1f, 1e-5f);  // level 0 whatever the bias
 }
 
 }  // namespace

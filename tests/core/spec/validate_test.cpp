@@ -258,6 +258,9 @@ INSTANTIATE_TEST_SUITE_P(
                  "16384 exceeds 8192"},
         RuleCase{"TooManyReferenceSamples", R"({"reference_samples": 5000})", "render.reference_samples",
                  "5000 exceeds 4096"},
+        RuleCase{"LodBiasTooFine", R"({"lod_bias": -4.5})", "render.lod_bias", "-4.5 is below -4"},
+        RuleCase{"LodBiasTooCoarse", R"({"lod_bias": 5})", "render.lod_bias", "5 exceeds 4"},
+        RuleCase{"LodBiasNotFinite", R"({"lod_bias": "NaN"})", "render.lod_bias", "NaN is not a finite number"},
         RuleCase{"UnknownFormat", R"({"format": 5})", "render.format", "5 is not a known ImageFormat value"}),
     CaseName);
 
