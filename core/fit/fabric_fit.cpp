@@ -116,29 +116,14 @@ TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& le
   return result;
 }
 
-// The start candidates of a coarse texel's fit, channel c (texel_fit.h
-// ChannelStart): its non-empty children's fits and their mean; none if every
-// child is empty.
-std::vector<ChannelStart> ChildStarts(const std::vector<std::array<ChannelFit, 3>>& children,
-                                      uint32_t child_resolution, size_t texel, int c) {
-  const size_t x = texel % (child_resolution / 2), y = texel / (child_resolution / 2);
-  std::vector<ChannelStart> starts(1);  // the mean first
-  for (size_t child_y = 2 * y; child_y < 2 * y + 2; ++child_y) {
-    for (size_t child_x = 2 * x; child_x < 2 * x + 2; ++child_x) {
-      const ChannelFit& child = children[child_y * child_resolution + child_x][c];
-      if (child.status != TexelFitStatus::kEmpty) starts.push_back({child.parameters, child.lut});
-    }
-  }
-  if (starts.size() == 1) return {};
-  const double count = double(starts.size() - 1);
-  ChannelStart& mean = starts.front();
-  mean.parameters.assign(starts[1].parameters.size(), 0.0);
-  mean.lut.assign(starts[1].lut.size(), 0.0);
-  for (size_t i = 1; i < starts.size(); ++i) {
-    for (size_t j = 0; j < mean.parameters.size(); ++j) mean.parameters[j] += starts[i].parameters[j] / count;
-    for (size_t v = 0; v < mean.lut.size(); ++v) mean.lut[v] += starts[i].lut[v] / count;
-  }
-  return starts;
+// The start candidate of a coarse texel's fit, channel c (texel_fit.h
+// ChannelStart): its parent's fit, none if the parent is empty.
+std::vector<ChannelStart> ParentStart(const std::vector<std::array<ChannelFit, 3>>& parents, uint32_t resolution,
+                                      size_t texel, int c) {
+  const size_t x = texel % resolution, y = texel / resolution;
+  const ChannelFit& parent = parents[(y / 2) * (resolution / 2) + x / 2][c];
+  if (parent.status == TexelFitStatus::kEmpty) return {};
+  return {ChannelStart{parent.parameters, parent.lut}};
 }
 
 // Stores a texel's combined fit in its level.
@@ -245,8 +230,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
     fabric.levels.push_back(CoarserLevel(fabric.levels.back(), normal_sums, views));
   }
 
-  // Level by level, finest first: a coarse texel starts from the closest of its
-  // children's fits and their mean (texel_fit.h ChannelStart). Within a level every
+  // Level by level, coarsest first (see the header). Within a level every
   // (texel, channel) is one work item.
   std::vector<std::vector<std::array<ChannelFit, 3>>> channel_fits(level_count);
   std::vector<double> level_seconds(level_count, 0.0);
@@ -255,9 +239,10 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   double total_texels = 0.0;
   for (const FittedLevel& level : fabric.levels) total_texels += double(level.resolution) * level.resolution;
   double texels_done = 0.0;
-  for (uint32_t k = 0; k < level_count; ++k) {
+  for (uint32_t k = level_count; k-- > 0;) {
     const Stopwatch level_time;
-    const size_t texels = size_t{fabric.levels[k].resolution} * fabric.levels[k].resolution;
+    const uint32_t resolution = fabric.levels[k].resolution;
+    const size_t texels = size_t{resolution} * resolution;
     const std::string stage = "fitting level " + std::to_string(k);
     channel_fits[k].resize(texels);
     if (progress) progress(texels_done / total_texels, stage);
@@ -268,8 +253,9 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
           const int c = static_cast<int>(item % 3);
           const TexelSamples texel_samples = GatherSamples(samples, fabric.levels[k], k, texel);
           const std::vector<ChannelStart> starts =
-              k > 0 ? ChildStarts(channel_fits[k - 1], fabric.levels[k - 1].resolution, texel, c)
-                    : std::vector<ChannelStart>();
+              k == 0 ? std::vector<ChannelStart>()
+              : k + 1 < level_count ? ParentStart(channel_fits[k + 1], resolution, texel, c)
+                                    : AlternativeStarts(texel_samples, c, options.lobes);
           channel_fits[k][texel][c] = FitTexelChannel(texel_samples, c, options, starts);
         },
         [&](size_t done) {

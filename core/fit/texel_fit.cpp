@@ -12,6 +12,8 @@ constexpr uint32_t kStartExponent = 10;
 // The start lobes' peak as a fraction of ρ: "a moderate specular highlight".
 constexpr double kStartPeakFraction = 0.5;
 constexpr double kStartAnisotropy = 1.22;
+// AlternativeStarts' broad lobes.
+constexpr double kBroadStartExponent = 3.0;
 // T beyond this means the model is numerically zero for the view; eq. 4 would only
 // amplify noise.
 constexpr double kMaxLut = 1e4;
@@ -260,33 +262,36 @@ ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& 
   // from it only by rounding.
   const double fallback_error = diffuse.squared_error * (1.0 + 1e-9) + 1e-300;
   uint32_t iterations = 0;
-  // Of the given starts (a mip texel's children's fits and their mean), the one
-  // closest to this texel's samples; one error evaluation each, against an LM
-  // iteration for every step a worse start costs.
-  const ChannelStart* start = nullptr;
-  double start_error = INFINITY;
-  for (const ChannelStart& candidate : starts) {
-    const double error = SquaredError(geometry, radiance, candidate.parameters.data(), options.lobes, candidate.lut);
-    if (error < start_error) {
-      start = &candidate;
-      start_error = error;
+  // One fit with every lobe from `start` (the paper's if null), falling back to
+  // fewer lobes from the paper's start, then to the diffuse fit.
+  auto fit_from = [&](const ChannelStart* start) {
+    for (uint32_t lobes = options.lobes; lobes >= 1; --lobes) {
+      ChannelFit fit;
+      fit.lm_iterations = iterations;
+      const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options,
+                                               lobes == options.lobes ? start : nullptr, fallback_error, fit);
+      iterations = fit.lm_iterations;
+      if (solved && fit.squared_error <= fallback_error && LobePeaksBounded(fit.parameters, lobes)) {
+        SwitchOffLobes(fit.parameters, lobes, options.lobes);
+        fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
+        return fit;
+      }
     }
-  }
-  for (uint32_t lobes = options.lobes; lobes >= 1; --lobes) {
-    ChannelFit fit;
+    ChannelFit fit = diffuse;
     fit.lm_iterations = iterations;
-    const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options, lobes == options.lobes ? start : nullptr,
-                                             fallback_error, fit);
-    iterations = fit.lm_iterations;
-    if (solved && fit.squared_error <= fallback_error && LobePeaksBounded(fit.parameters, lobes)) {
-      SwitchOffLobes(fit.parameters, lobes, options.lobes);
-      fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
-      return fit;
-    }
+    return fit;
+  };
+  // From the paper's start and from each given one, the fit with the least error.
+  // Not merely the start closest to the samples: a parent's fit is closer than the
+  // paper's start and then converges within a few iterations into a shallower
+  // minimum (a 13% higher RMSE on a knit's 1×1 level).
+  ChannelFit best = fit_from(nullptr);
+  for (const ChannelStart& start : starts) {
+    ChannelFit fit = fit_from(&start);
+    if (fit.squared_error < best.squared_error) best = std::move(fit);
   }
-  ChannelFit fit = diffuse;
-  fit.lm_iterations = iterations;
-  return fit;
+  best.lm_iterations = iterations;
+  return best;
 }
 
 }  // namespace
@@ -375,6 +380,21 @@ std::vector<double> TexelSamples::Channel(int c) const {
   std::vector<double> values(radiance_.size());
   for (size_t s = 0; s < radiance_.size(); ++s) values[s] = radiance_[s][c];
   return values;
+}
+
+std::vector<ChannelStart> AlternativeStarts(const TexelSamples& samples, int channel, uint32_t lobes) {
+  const std::vector<double> paper = StartParameters(samples.geometry(), samples.Channel(channel), lobes);
+  const std::vector<double> lut(samples.view_count(), 1.0);
+  const double c = paper[3];  // every lobe's C_z: the peak c^N is kStartPeakFraction·ρ
+  ChannelStart retro{paper, lut};
+  std::fill_n(retro.parameters.begin() + 1 + 4 * (lobes - 1), 3, c);
+  ChannelStart broad{paper, lut};
+  const double broad_c = std::pow(c, double(kStartExponent) / kBroadStartExponent);  // the same peak
+  for (uint32_t i = 0; i < lobes; ++i) {
+    for (int j = 1; j <= 3; ++j) broad.parameters[j + 4 * i] *= broad_c / c;
+    broad.parameters[4 + 4 * i] = kBroadStartExponent;
+  }
+  return {retro, broad};
 }
 
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,

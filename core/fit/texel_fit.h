@@ -138,10 +138,10 @@ struct ChannelFit {
 
 // A start other than the paper's for the fit with every requested lobe:
 // parameters (LafortuneChannel packing, options.lobes lobes, inside the bounds of
-// lobe_cost.h) and T per view. A mip texel's candidates are its children's fits
-// and their mean, much closer than the generic start; the fit starts from the
-// candidate with the least error on the texel's samples (fallbacks to fewer lobes
-// still use the paper's start).
+// lobe_cost.h) and T per view. The fit runs from the paper's start and from each
+// given start and keeps the result with the least error (fallbacks to fewer lobes
+// use the paper's start). A mip texel's start is its parent's fit, the top level's
+// AlternativeStarts (core/fit/fabric_fit.h).
 struct ChannelStart {
   std::vector<double> parameters;
   std::vector<double> lut;
@@ -150,7 +150,13 @@ struct ChannelStart {
 ChannelFit FitTexelChannel(const TexelSamples& samples, int channel, const TexelFitOptions& options,
                            std::span<const ChannelStart> starts = {});
 
-// The start above for one channel's radiance (one value per sample), packed as
+// Starts that depend on the texel's samples only, for a texel with no parent (the
+// top mip level), whose minimum the paper's start alone often misses: the paper's
+// with its last lobe retro-reflective (C_x = C_y = C_z), and with every lobe broad
+// (exponent 3, the same peak).
+std::vector<ChannelStart> AlternativeStarts(const TexelSamples& samples, int channel, uint32_t lobes);
+
+// The paper's start (above) for one channel's radiance (one value per sample), packed as
 // LafortuneChannel's x.
 std::vector<double> StartParameters(const TexelGeometry& geometry, const std::vector<double>& radiance,
                                     uint32_t lobes);

@@ -20,9 +20,10 @@ namespace loom {
 // (2: 32-bit lobe coefficients and frame in half-float assets; the shortened LUT step;
 // 3: lobes peaking above ten times the energy-conserving peak are refitted with fewer;
 // 4: acquisition's rays on one grid over the tile whatever the resolution, and a mip
-// texel pooling its children's samples and hit normals weighted by coverage):
-// it invalidates every cached fabric.
-inline constexpr uint32_t kAssetFormatVersion = 4;
+// texel pooling its children's samples and hit normals weighted by coverage;
+// 5: mip levels fitted coarsest first, a texel starting from its parent's fit, not
+// its children's): it invalidates every cached fabric.
+inline constexpr uint32_t kAssetFormatVersion = 5;
 
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 

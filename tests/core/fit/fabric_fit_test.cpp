@@ -242,6 +242,73 @@ TEST(FabricFit, CoarseTexelsWeightTheirChildrenByCoverage) {
   EXPECT_NEAR(model_sum / expected_sum, 1.0, 0.02);
 }
 
+// The samples with each 2×2 block of texels replaced by what level 1 pools from it:
+// coverage-weighted radiance, mean coverage, the rays' mean normal. Level 1 and
+// above see the same samples as before; level 0 sees four copies of them.
+RadianceSamples PooledIntoBlocks(const RadianceSamples& fine) {
+  RadianceSamples pooled = fine;
+  const uint32_t res = fine.resolution;
+  const size_t views = fine.view_count(), lights = fine.light_count();
+  for (uint32_t by = 0; by < res; by += 2) {
+    for (uint32_t bx = 0; bx < res; bx += 2) {
+      const std::array<size_t, 4> block = {by * res + bx, by * res + bx + 1, (by + 1) * res + bx, (by + 1) * res + bx + 1};
+      glm::dvec3 normal_sum(0.0);
+      for (size_t child : block) {
+        double coverage = 0.0;
+        for (size_t v = 0; v < views; ++v) coverage += fine.alpha[fine.AlphaIndex(child, v)];
+        normal_sum += glm::dvec3(fine.normals[child]) * double{fine.normal_lengths[child]} * coverage;
+      }
+      const glm::vec3 normal(glm::normalize(normal_sum));
+      for (size_t v = 0; v < views; ++v) {
+        double weight = 0.0;
+        for (size_t child : block) weight += fine.alpha[fine.AlphaIndex(child, v)];
+        for (size_t l = 0; l < lights; ++l) {
+          glm::dvec3 sum(0.0);
+          for (size_t child : block) {
+            sum += double{fine.alpha[fine.AlphaIndex(child, v)]} * glm::dvec3(fine.radiance[fine.RadianceIndex(child, v, l)]);
+          }
+          for (size_t child : block) pooled.radiance[pooled.RadianceIndex(child, v, l)] = glm::vec3(weight > 0 ? sum / weight : sum);
+        }
+        for (size_t child : block) pooled.alpha[pooled.AlphaIndex(child, v)] = static_cast<float>(weight / 4);
+      }
+      for (size_t child : block) {
+        pooled.normals[child] = normal;
+        pooled.tangents[child] = TexelTangent(normal);
+        pooled.normal_lengths[child] = 1.0f;
+      }
+    }
+  }
+  return pooled;
+}
+
+// Levels are fitted coarsest first, each from its parent's fit or the paper's start
+// (fabric_fit.h), so what level 0 holds cannot change the coarser levels: here
+// level 0 is a checkerboard of two BRDFs in one fit and their pooled mean in the
+// other, and levels 1 and 2 come out the same, to the iteration. (Fitted finest
+// first from the children's fits, as in asset format 4, they differed in both.)
+TEST(FabricFit, ACoarseLevelDoesNotDependOnTheFinerLevels) {
+  const RadianceSamples checkerboard = MakeFabricSamples();
+  const FittedFabric fine = FitFabric(checkerboard, {}, {}, 2);
+  const FittedFabric pooled = FitFabric(PooledIntoBlocks(checkerboard), {}, {}, 2);
+  ASSERT_EQ(fine.levels.size(), 3u);
+  EXPECT_GT(std::abs(fine.levels[0].stats.rmse_mean - pooled.levels[0].stats.rmse_mean), 1e-3)
+      << "level 0 fits different samples";
+  for (uint32_t k = 1; k < 3; ++k) {
+    const FittedLevel& a = fine.levels[k];
+    const FittedLevel& b = pooled.levels[k];
+    EXPECT_EQ(a.stats.lm_iterations_per_texel, b.stats.lm_iterations_per_texel) << "level " << k;
+    for (size_t texel = 0; texel < a.brdfs.size(); ++texel) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(a.brdfs[texel].rho[c], b.brdfs[texel].rho[c], 1e-4) << "level " << k << " texel " << texel;
+        for (uint32_t j = 0; j < a.brdfs[texel].lobe_count; ++j) {
+          EXPECT_NEAR(a.brdfs[texel].lobes[j].n[c], b.brdfs[texel].lobes[j].n[c], 1e-3 * a.brdfs[texel].lobes[j].n[c])
+              << "level " << k << " texel " << texel << " lobe " << j;
+        }
+      }
+    }
+  }
+}
+
 TEST(FabricFit, ResultDoesNotDependOnThreadCount) {
   const RadianceSamples samples = MakeFabricSamples();
   v1::PrecomputeSettings settings;

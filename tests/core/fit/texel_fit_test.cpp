@@ -212,10 +212,10 @@ TEST(TexelFit, PooledSamplesFitLikeTheRawOnes) {
   }
 }
 
-// A mip texel starts from the closest of its candidates (its children's fits and
-// their mean): from a converged fit among poor candidates, the warm fit is at least
-// as good as the cold one and takes fewer iterations.
-TEST(TexelFit, WarmStartFromTheClosestCandidateIsNoWorseThanCold) {
+// The fit runs from the paper's start and from every given one (a mip texel's
+// parent's fit) and keeps the least error: among poor candidates and a converged
+// fit, the result is no worse than the cold fit, and every start was fitted.
+TEST(TexelFit, ExtraStartsKeepTheFitWithTheLeastError) {
   const SyntheticTexel truth(Brighter(TwoLobes()), ColouredLut(), 0.02, 4);
   const TexelSamples samples = MakeTexelSamples(truth, kDirections, kDirections);
   const TexelFitOptions options = MakeTexelFitOptions({});
@@ -229,8 +229,31 @@ TEST(TexelFit, WarmStartFromTheClosestCandidateIsNoWorseThanCold) {
     const ChannelFit warm = FitTexelChannel(samples, c, options, starts);
     EXPECT_EQ(warm.status, TexelFitStatus::kOk) << "channel " << c;
     EXPECT_LE(warm.squared_error, cold.squared_error * (1.0 + 1e-9)) << "channel " << c;
-    EXPECT_LT(warm.lm_iterations, cold.lm_iterations) << "channel " << c;
+    EXPECT_GT(warm.lm_iterations, cold.lm_iterations) << "channel " << c << ": the iterations of every start";
   }
+}
+
+// The top level's extra starts: the paper's with its last lobe retro-reflective,
+// and with every lobe broad at the same peak.
+TEST(TexelFit, AlternativeStartsShareThePapersPeak) {
+  const SyntheticTexel truth(TwoLobes(), ColouredLut());
+  const TexelSamples samples = MakeTexelSamples(truth, kDirections, kDirections);
+  const std::vector<double> paper = StartParameters(samples.geometry(), samples.Channel(1), 2);
+  const std::vector<ChannelStart> starts = AlternativeStarts(samples, 1, 2);
+  ASSERT_EQ(starts.size(), 2u);
+  const double peak = std::pow(paper[3], paper[4]);
+  ASSERT_GT(peak, 0.0);
+  const std::vector<double>& retro = starts[0].parameters;
+  EXPECT_EQ(std::vector<double>(retro.begin(), retro.begin() + 5), std::vector<double>(paper.begin(), paper.begin() + 5));
+  EXPECT_EQ(retro[5], paper[3]);
+  EXPECT_EQ(retro[6], paper[3]);
+  EXPECT_EQ(retro[7], paper[3]);
+  const std::vector<double>& broad = starts[1].parameters;
+  for (int lobe = 0; lobe < 2; ++lobe) {
+    EXPECT_EQ(broad[4 + 4 * lobe], 3.0);
+    EXPECT_NEAR(std::pow(broad[3 + 4 * lobe], broad[4 + 4 * lobe]), peak, 1e-12 * peak) << "lobe " << lobe;
+  }
+  for (const ChannelStart& start : starts) EXPECT_EQ(start.lut, std::vector<double>(kDirections, 1.0));
 }
 
 // --- Pathological texels ---------------------------------------------------------------
