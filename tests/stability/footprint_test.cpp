@@ -20,7 +20,7 @@ namespace {
 // flicker. Level 0 alone (LEVEL_MODE_NONE) picks one of ~84 texels across a pixel and
 // flickers: documented as the failure the fitted levels exist to prevent. The mean
 // is bounded as the baseline's (±10%): the one-texel level fitted from its own
-// samples (asset format 5) is 8.4% too bright here against 3.0% when it started
+// samples (asset format 5) is 8.6% too bright here against 3.0% when it started
 // from its children's fits, with the same error on its samples (RMSE 0.0434
 // against 0.0431): 45° lies between the 36-direction set's view rings at 41° and
 // 72°, where no stored view constrains the lobes (docs/accuracy.md "Mean radiance
