@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/spec/defaults.h"
 
@@ -262,24 +263,31 @@ ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& 
   // from it only by rounding.
   const double fallback_error = diffuse.squared_error * (1.0 + 1e-9) + 1e-300;
   uint32_t iterations = 0;
-  // One fit with every lobe from `start` (the paper's if null), falling back to
-  // fewer lobes from the paper's start, then to the diffuse fit.
-  auto fit_from = [&](const ChannelStart* start) {
-    for (uint32_t lobes = options.lobes; lobes >= 1; --lobes) {
-      ChannelFit fit;
-      fit.lm_iterations = iterations;
-      const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options,
-                                               lobes == options.lobes ? start : nullptr, fallback_error, fit);
-      iterations = fit.lm_iterations;
-      if (solved && fit.squared_error <= fallback_error && LobePeaksBounded(fit.parameters, lobes)) {
-        SwitchOffLobes(fit.parameters, lobes, options.lobes);
-        fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
-        return fit;
-      }
-    }
-    ChannelFit fit = diffuse;
+  // A fit with `lobes` lobes from `start` (the paper's if null), if it solved, beats
+  // the diffuse fit and keeps its peaks bounded.
+  auto attempt = [&](uint32_t lobes, const ChannelStart* start) -> std::optional<ChannelFit> {
+    ChannelFit fit;
     fit.lm_iterations = iterations;
+    const bool solved = AlternateLobesAndLut(geometry, radiance, lobes, options, start, fallback_error, fit);
+    iterations = fit.lm_iterations;
+    if (!solved || fit.squared_error > fallback_error || !LobePeaksBounded(fit.parameters, lobes)) return {};
+    SwitchOffLobes(fit.parameters, lobes, options.lobes);
+    fit.status = lobes == options.lobes ? TexelFitStatus::kOk : TexelFitStatus::kFewerLobes;
     return fit;
+  };
+  // What a start whose fit with every lobe failed gets: fewer lobes from the paper's
+  // start, then the diffuse fit. It does not depend on the start, so it is fitted
+  // once, when a start first needs it.
+  std::optional<ChannelFit> fallback;
+  auto fewer_lobes = [&]() -> const ChannelFit& {
+    if (fallback) return *fallback;
+    for (uint32_t lobes = options.lobes - 1; lobes >= 1 && !fallback; --lobes) fallback = attempt(lobes, nullptr);
+    if (!fallback) fallback = diffuse;
+    return *fallback;
+  };
+  auto fit_from = [&](const ChannelStart* start) {
+    std::optional<ChannelFit> fit = attempt(options.lobes, start);
+    return fit ? std::move(*fit) : fewer_lobes();
   };
   // From the paper's start and from each given one, the fit with the least error.
   // Not merely the start closest to the samples: a parent's fit is closer than the
