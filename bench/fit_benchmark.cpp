@@ -5,6 +5,8 @@
 //   loom_fit_benchmark --samples=/tmp/knit.samples --benchmark_filter=FitSamples
 //                                                   real samples (loom-lab acquire), the same figures
 //   loom_fit_benchmark --benchmark_filter=LobeSolve  analytic vs automatic derivatives
+//   loom_fit_benchmark --samples=/tmp/knit.samples --benchmark_filter=TexelFrameSearch
+//                                                   what fitting each texel's frame would gain
 //
 // Synthetic input: radiance samples of a knit-like tile, rendered from known
 // per-texel Lafortune BRDFs under a coloured lookup table on bumpy normals, with
@@ -24,9 +26,11 @@
 #include <memory>
 #include <optional>
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <random>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "core/acquire/hemisphere_directions.h"
@@ -35,6 +39,7 @@
 #include "core/fit/fabric_fit.h"
 #include "core/fit/lobe_cost.h"
 #include "core/fit/texel_fit.h"
+#include "core/util/parallel_for.h"
 
 namespace loom {
 namespace {
@@ -179,6 +184,84 @@ void RegisterSyntheticFits() {
   benchmark->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 }
 
+// --- A fitted texel frame (Daubert §5: "could probably be further improved by also
+// computing a new normal and tangent to best fit the input data") -------------------
+
+// The fit's RMSE for one level-0 texel's samples in the frame (normal, tangent).
+double FitRmseInFrame(const RadianceSamples& samples, size_t texel, glm::vec3 normal, glm::vec3 tangent,
+                      const TexelFitOptions& options) {
+  return FitTexel(GatherTexelSamples(samples, 0, texel, TexelFrame(normal, tangent)), options).rmse;
+}
+
+glm::vec3 Rotated(glm::vec3 v, glm::vec3 axis, float degrees) {
+  return glm::normalize(glm::vec3(glm::rotate(glm::mat4(1.0f), glm::radians(degrees), axis) * glm::vec4(v, 0.0f)));
+}
+
+// Every `stride`-th level-0 texel fitted (`lobes` lobes, the table on) in
+// acquisition's frame (its mean normal), in the flat frame (the tile's normal), and
+// in the frame a pattern search finds: from acquisition's frame, rotations by
+// ±step about the frame's three axes, moving to the best while it lowers the fit's
+// RMSE by 0.1%, the step halved from 24° to 3°. Each rotation is a whole texel fit,
+// so this measures what fitting the frame could gain, at ~50 fits a texel; it is
+// not how Loom fits. Relative RMSE as in FitAndReport, over the chosen texels.
+void SearchTexelFrames(benchmark::State& state, const RadianceSamples& samples, int64_t lobes, int64_t stride) {
+  TexelFitOptions options;
+  options.lobes = static_cast<uint32_t>(lobes);
+  std::vector<size_t> texels;
+  for (size_t texel = 0; texel < samples.texel_count(); texel += static_cast<size_t>(stride)) texels.push_back(texel);
+  struct Result {
+    double weight = 0.0, mean = 0.0, stored = 0.0, flat = 0.0, searched = 0.0, fits = 0.0, normal_moved = 0.0;
+  };
+  std::vector<Result> results(texels.size());
+  for (auto _ : state) {
+    ParallelFor(texels.size(), 0, [&](size_t i, unsigned) {
+      const size_t texel = texels[i];
+      glm::vec3 normal = samples.normals[texel], tangent = samples.tangents[texel];
+      const TexelFit fit = FitTexel(GatherTexelSamples(samples, 0, texel, TexelFrame(normal, tangent)), options);
+      Result& result = results[i];
+      result = {fit.weight, fit.mean_radiance, fit.rmse,
+                FitRmseInFrame(samples, texel, {0, 0, 1}, {1, 0, 0}, options), fit.rmse, 2.0, 0.0};
+      for (const float step : {24.0f, 12.0f, 6.0f, 3.0f}) {
+        for (bool moved = true; moved;) {
+          const glm::vec3 axes[3] = {tangent, glm::cross(normal, tangent), normal};
+          glm::vec3 best_normal = normal, best_tangent = tangent;
+          double best = result.searched;
+          for (const glm::vec3& axis : axes) {
+            for (const float sign : {-1.0f, 1.0f}) {
+              const glm::vec3 n = Rotated(normal, axis, sign * step), t = Rotated(tangent, axis, sign * step);
+              if (n.z < 0.05f) continue;  // keep the frame facing up
+              const double rmse = FitRmseInFrame(samples, texel, n, t, options);
+              result.fits += 1.0;
+              if (rmse < best) std::tie(best, best_normal, best_tangent) = std::tuple(rmse, n, t);
+            }
+          }
+          moved = best < 0.999 * result.searched;
+          if (moved) std::tie(result.searched, normal, tangent) = std::tuple(best, best_normal, best_tangent);
+        }
+      }
+      result.normal_moved = glm::degrees(std::acos(std::min(1.0f, glm::dot(normal, samples.normals[texel]))));
+    });
+  }
+  double weight = 0.0, radiance = 0.0, stored = 0.0, flat = 0.0, searched = 0.0, fits = 0.0, moved = 0.0;
+  for (const Result& r : results) {
+    weight += r.weight;
+    radiance += r.mean * r.weight;
+    stored += r.stored * r.stored * r.weight;
+    flat += r.flat * r.flat * r.weight;
+    searched += r.searched * r.searched * r.weight;
+    fits += r.fits;
+    moved += r.normal_moved;
+  }
+  auto relative = [&](double squared) { return std::sqrt(squared * weight) / radiance; };
+  state.counters["texels"] = double(texels.size());
+  state.counters["rel_rmse_stored_frame"] = relative(stored);
+  state.counters["rel_rmse_flat_frame"] = relative(flat);
+  state.counters["rel_rmse_searched_frame"] = relative(searched);
+  state.counters["psnr_gain_db"] = 10.0 * std::log10(stored / searched);
+  state.counters["fits_per_texel"] = fits / double(texels.size());
+  state.counters["normal_moved_deg"] = moved / double(texels.size());
+}
+
 // The samples file is read once, when the first of its benchmarks runs.
 void RegisterSampleFits(const std::string& path) {
   auto samples = std::make_shared<std::optional<RadianceSamples>>();
@@ -189,6 +272,14 @@ void RegisterSampleFits(const std::string& path) {
   benchmark->ArgNames({"lobes", "lut"});
   for (const auto& [lobes, lut] : kModels) benchmark->Args({lobes, lut});
   benchmark->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
+
+  auto* frames = benchmark::RegisterBenchmark("BM_TexelFrameSearch", [path, samples](benchmark::State& state) {
+    if (!*samples) *samples = ReadRadianceSamples(path);
+    SearchTexelFrames(state, **samples, state.range(0), state.range(1));
+  });
+  frames->ArgNames({"lobes", "stride"});
+  for (const int64_t lobes : {1, 2, 3}) frames->Args({lobes, 7});
+  frames->Iterations(1)->UseRealTime()->Unit(benchmark::kSecond);
 }
 
 // --- Analytic vs automatic derivatives for one lobe solve -------------------------------
@@ -203,14 +294,8 @@ struct SolveInput {
 SolveInput MakeSolveInput() {
   const RadianceSamples samples = SyntheticSamples(8);
   const size_t texel = 3 * 8 + 1;
-  const TexelFrame frame(samples.normals[texel], samples.tangents[texel]);
-  TexelSamples texel_samples(kDirections);
-  for (size_t v = 0; v < samples.view_count(); ++v) {
-    for (size_t l = 0; l < samples.light_count(); ++l) {
-      texel_samples.Add(frame.ToLocal(samples.light_directions[l]), frame.ToLocal(samples.view_directions[v]),
-                        static_cast<uint32_t>(v), samples.radiance[samples.RadianceIndex(texel, v, l)]);
-    }
-  }
+  const TexelSamples texel_samples =
+      GatherTexelSamples(samples, 0, texel, TexelFrame(samples.normals[texel], samples.tangents[texel]));
   return {texel_samples.geometry(), texel_samples.Channel(0), std::vector<double>(kDirections, 1.0)};
 }
 

@@ -75,47 +75,6 @@ FittedLevel CoarserLevel(const FittedLevel& fine, std::vector<glm::dvec3>& norma
   return coarse;
 }
 
-// Every raw sample of `texel` of `level` (the level-0 texels it covers, views with
-// alpha > 0) in the texel's local frame, those of one view and light pooled and
-// weighted by their alpha (texel_fit.h TexelSamples): they share the texel's frame.
-TexelSamples GatherSamples(const RadianceSamples& samples, const FittedLevel& level_data, uint32_t level,
-                           size_t texel) {
-  const size_t views = samples.view_count(), lights = samples.light_count();
-  const TexelFrame frame(level_data.normals[texel], level_data.tangents[texel]);
-  std::vector<glm::vec3> local_lights(lights);
-  for (size_t l = 0; l < lights; ++l) local_lights[l] = frame.ToLocal(samples.light_directions[l]);
-
-  const size_t span = size_t{1} << level;
-  const size_t x0 = (texel % level_data.resolution) * span, y0 = (texel / level_data.resolution) * span;
-  std::vector<size_t> covered;  // the level-0 texels it covers
-  for (size_t y = y0; y < y0 + span; ++y) {
-    for (size_t x = x0; x < x0 + span; ++x) covered.push_back(y * samples.resolution + x);
-  }
-  TexelSamples result(static_cast<uint32_t>(views));
-  result.Reserve(views * lights);
-  std::vector<size_t> seen;  // the covered texels with alpha > 0 for a view
-  std::vector<float> coverages;  // their alpha
-  std::vector<glm::vec3> pooled;
-  for (size_t v = 0; v < views; ++v) {
-    seen.clear();
-    coverages.clear();
-    for (size_t child : covered) {
-      const float alpha = samples.alpha[samples.AlphaIndex(child, v)];
-      if (alpha <= 0.0f) continue;
-      seen.push_back(child);
-      coverages.push_back(alpha);
-    }
-    if (seen.empty()) continue;
-    const glm::vec3 local_view = frame.ToLocal(samples.view_directions[v]);
-    for (size_t l = 0; l < lights; ++l) {
-      pooled.clear();
-      for (size_t child : seen) pooled.push_back(samples.radiance[samples.RadianceIndex(child, v, l)]);
-      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled, coverages);
-    }
-  }
-  return result;
-}
-
 // The start candidate of a coarse texel's fit, channel c (texel_fit.h
 // ChannelStart): its parent's fit, none if the parent is empty.
 std::vector<ChannelStart> ParentStart(const std::vector<std::array<ChannelFit, 3>>& parents, uint32_t resolution,
@@ -212,6 +171,44 @@ FitLevelStats LevelStats(uint32_t k, const FittedLevel& level, const std::vector
 
 }  // namespace
 
+TexelSamples GatherTexelSamples(const RadianceSamples& samples, uint32_t level, size_t texel,
+                                const TexelFrame& frame) {
+  const size_t views = samples.view_count(), lights = samples.light_count();
+  std::vector<glm::vec3> local_lights(lights);
+  for (size_t l = 0; l < lights; ++l) local_lights[l] = frame.ToLocal(samples.light_directions[l]);
+
+  const size_t span = size_t{1} << level;
+  const size_t resolution = samples.resolution >> level;
+  const size_t x0 = (texel % resolution) * span, y0 = (texel / resolution) * span;
+  std::vector<size_t> covered;  // the level-0 texels it covers
+  for (size_t y = y0; y < y0 + span; ++y) {
+    for (size_t x = x0; x < x0 + span; ++x) covered.push_back(y * samples.resolution + x);
+  }
+  TexelSamples result(static_cast<uint32_t>(views));
+  result.Reserve(views * lights);
+  std::vector<size_t> seen;  // the covered texels with alpha > 0 for a view
+  std::vector<float> coverages;  // their alpha
+  std::vector<glm::vec3> pooled;
+  for (size_t v = 0; v < views; ++v) {
+    seen.clear();
+    coverages.clear();
+    for (size_t child : covered) {
+      const float alpha = samples.alpha[samples.AlphaIndex(child, v)];
+      if (alpha <= 0.0f) continue;
+      seen.push_back(child);
+      coverages.push_back(alpha);
+    }
+    if (seen.empty()) continue;
+    const glm::vec3 local_view = frame.ToLocal(samples.view_directions[v]);
+    for (size_t l = 0; l < lights; ++l) {
+      pooled.clear();
+      for (size_t child : seen) pooled.push_back(samples.radiance[samples.RadianceIndex(child, v, l)]);
+      result.AddPooled(local_lights[l], local_view, static_cast<uint32_t>(v), pooled, coverages);
+    }
+  }
+  return result;
+}
+
 FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSettings& settings,
                        const FitProgress& progress, unsigned threads) {
   const Stopwatch total;
@@ -235,7 +232,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   std::vector<std::vector<std::array<ChannelFit, 3>>> channel_fits(level_count);
   std::vector<double> level_seconds(level_count, 0.0);
   // A level's share of the progress is its share of the texels: with pooled
-  // samples (GatherSamples) a coarse texel costs about what a fine one does.
+  // samples (GatherTexelSamples) a coarse texel costs about what a fine one does.
   double total_texels = 0.0;
   for (const FittedLevel& level : fabric.levels) total_texels += double(level.resolution) * level.resolution;
   double texels_done = 0.0;
@@ -251,7 +248,9 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
         [&](size_t item, unsigned) {
           const size_t texel = item / 3;
           const int c = static_cast<int>(item % 3);
-          const TexelSamples texel_samples = GatherSamples(samples, fabric.levels[k], k, texel);
+          const FittedLevel& level = fabric.levels[k];
+          const TexelSamples texel_samples =
+              GatherTexelSamples(samples, k, texel, TexelFrame(level.normals[texel], level.tangents[texel]));
           const std::vector<ChannelStart> starts =
               k == 0 ? std::vector<ChannelStart>()
               : k + 1 < level_count ? ParentStart(channel_fits[k + 1], resolution, texel, c)

@@ -98,6 +98,15 @@ struct FittedFabric {
 // Called on the calling thread; throwing from it cancels the fit.
 using FitProgress = std::function<void(double fraction, std::string_view stage)>;
 
+// Every raw sample of texel `texel` of mip level `level` (indexed at that level's
+// resolution, samples.resolution >> level; the level-0 texels it covers, views with
+// alpha > 0) with its directions in `frame`, those of one view and light pooled and
+// weighted by their alpha (texel_fit.h TexelSamples): they share the frame.
+// FitFabric fits each texel in its own frame, its children's normals averaged;
+// fit_benchmark's frame search fits the same samples in other frames.
+TexelSamples GatherTexelSamples(const RadianceSamples& samples, uint32_t level, size_t texel,
+                                const TexelFrame& frame);
+
 // settings: lobes, lookup_table, mip_levels, lut_change_threshold,
 // max_alternations, max_lm_iterations (defaults applied here). The level count
 // comes from the samples' resolution, which must be a power of two for mip levels
