@@ -2,7 +2,7 @@
 // same scene through both methods, the fabric precomputed with small settings so
 // the suite stays quick. What each test asserts is a figure measured on these
 // scenes; where the figure is not reached (PSNR at mid distance) the bound
-// is what the method reaches today and the gap is written up in the README.
+// is what the method reaches today and the gap is written up in docs/accuracy.md.
 
 #include <gtest/gtest.h>
 
@@ -37,14 +37,20 @@ TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesFarAwayHasTheReferencesMeanRadianc
 }
 
 // Mid distance (12 tiles: ~16 px a tile). The per-pixel error is the fit's: a
-// texel's lobes cannot follow the yarn shadows that move with the light.
+// texel's lobes cannot follow the yarn shadows that move with the light
+// (docs/accuracy.md). The bound sits under the measured 12.96 dB so that the
+// lookups' own mistakes fail it; each was measured by breaking the shader: the
+// table T(v) read for the mirrored view 10.90 dB, T = 1 12.37 dB (and a mean
+// 0.916), texels looked up where the view meets the macro surface instead of
+// acquisition's sampling face (no parallax) 12.18 dB. (Shading in the tile's frame
+// instead of the texel's scores 13.26 here; SvbrdfAnalytic's tilted frame fails it.)
 TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesMidDistancePsnr) {
   const v1::SceneSpec scene = MakeComparisonScene({});
   const Image svbrdf = RenderSvbrdf(scene), reference = RenderReference(scene);
   const ImageComparison comparison = CompareImages(svbrdf, reference);
   RecordProperty("psnr_db", std::to_string(comparison.psnr_db));
   RecordProperty("mean_ratio", std::to_string(MeanRed(svbrdf) / MeanRed(reference)));
-  EXPECT_GT(comparison.psnr_db, 10.0);
+  EXPECT_GT(comparison.psnr_db, 12.5);
   EXPECT_NEAR(MeanRed(svbrdf) / MeanRed(reference), 1.0, 0.08);
 }
 
