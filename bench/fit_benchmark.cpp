@@ -187,10 +187,10 @@ void RegisterSyntheticFits() {
 // --- A fitted texel frame (Daubert §5: "could probably be further improved by also
 // computing a new normal and tangent to best fit the input data") -------------------
 
-// The fit's RMSE for one level-0 texel's samples in the frame (normal, tangent).
-double FitRmseInFrame(const RadianceSamples& samples, size_t texel, glm::vec3 normal, glm::vec3 tangent,
-                      const TexelFitOptions& options) {
-  return FitTexel(GatherTexelSamples(samples, 0, texel, TexelFrame(normal, tangent)), options).rmse;
+// The fit of one level-0 texel's samples in the frame (normal, tangent).
+TexelFit FitInFrame(const RadianceSamples& samples, size_t texel, glm::vec3 normal, glm::vec3 tangent,
+                    const TexelFitOptions& options) {
+  return FitTexel(GatherTexelSamples(samples, 0, texel, TexelFrame(normal, tangent)), options);
 }
 
 glm::vec3 Rotated(glm::vec3 v, glm::vec3 axis, float degrees) {
@@ -217,10 +217,10 @@ void SearchTexelFrames(benchmark::State& state, const RadianceSamples& samples, 
     ParallelFor(texels.size(), 0, [&](size_t i, unsigned) {
       const size_t texel = texels[i];
       glm::vec3 normal = samples.normals[texel], tangent = samples.tangents[texel];
-      const TexelFit fit = FitTexel(GatherTexelSamples(samples, 0, texel, TexelFrame(normal, tangent)), options);
+      const TexelFit fit = FitInFrame(samples, texel, normal, tangent, options);
       Result& result = results[i];
       result = {fit.weight, fit.mean_radiance, fit.rmse,
-                FitRmseInFrame(samples, texel, {0, 0, 1}, {1, 0, 0}, options), fit.rmse, 2.0, 0.0};
+                FitInFrame(samples, texel, {0, 0, 1}, {1, 0, 0}, options).rmse, fit.rmse, 2.0, 0.0};
       for (const float step : {24.0f, 12.0f, 6.0f, 3.0f}) {
         for (bool moved = true; moved;) {
           const glm::vec3 axes[3] = {tangent, glm::cross(normal, tangent), normal};
@@ -230,7 +230,7 @@ void SearchTexelFrames(benchmark::State& state, const RadianceSamples& samples, 
             for (const float sign : {-1.0f, 1.0f}) {
               const glm::vec3 n = Rotated(normal, axis, sign * step), t = Rotated(tangent, axis, sign * step);
               if (n.z < 0.05f) continue;  // keep the frame facing up
-              const double rmse = FitRmseInFrame(samples, texel, n, t, options);
+              const double rmse = FitInFrame(samples, texel, n, t, options).rmse;
               result.fits += 1.0;
               if (rmse < best) std::tie(best, best_normal, best_tangent) = std::tuple(rmse, n, t);
             }

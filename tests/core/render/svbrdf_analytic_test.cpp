@@ -33,10 +33,11 @@ LafortuneBrdf KnownBrdf() {
 RadianceSamples AnalyticSamples(uint32_t resolution, uint32_t directions, glm::vec3 normal) {
   RadianceSamples samples(resolution, HemisphereGridDirections(directions), HemisphereGridDirections(directions));
   const LafortuneBrdf brdf = KnownBrdf();
-  const TexelFrame frame(normal, TexelTangent(normal));
+  const glm::vec3 tangent = TexelTangent(normal);
+  const TexelFrame frame(normal, tangent);
   for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
     samples.normals[texel] = normal;
-    samples.tangents[texel] = TexelTangent(normal);
+    samples.tangents[texel] = tangent;
     for (size_t view = 0; view < samples.view_count(); ++view) {
       samples.alpha[samples.AlphaIndex(texel, view)] = 1.0f;
       for (size_t light = 0; light < samples.light_count(); ++light) {
