@@ -9,7 +9,6 @@ find_package(spdlog REQUIRED)
 find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache keys
 find_package(CLI11 REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
-find_package(tinyobjloader REQUIRED)    # OBJ meshes in scenes
 find_package(embree 3 REQUIRED)         # ray casting for acquisition
 find_package(Ceres REQUIRED)            # Levenberg–Marquardt lobe fitting (pulls glog, gflags)
 

@@ -52,6 +52,10 @@ Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader) {
   while (reader.Read(&chunk)) {
     if (first) download.artifact = chunk.artifact();
     first = false;
+    if (download.bytes.size() + chunk.chunk().size() > download.artifact.size()) {
+      throw Error(ErrorCode::kInternal, "DownloadArtifact: the server sent more than the " +
+                                            std::to_string(download.artifact.size()) + " bytes it announced");
+    }
     download.bytes += chunk.chunk();
   }
   return download;
@@ -65,18 +69,25 @@ void VerifyDownload(const Download& download, std::string_view sha256) {
   CheckContent(download.artifact, download.bytes, "downloaded artifact");
 }
 
-void SendArtifact(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact,
-                  std::string_view bytes) {
-  v1::ArtifactChunk message;
-  *message.mutable_artifact() = artifact;
-  size_t offset = 0;
-  do {
-    const size_t length = std::min(kChunkBytes, bytes.size() - offset);
-    message.set_chunk(std::string(bytes.substr(offset, length)));
-    if (!writer.Write(message)) return;  // the client went away
-    message.clear_artifact();
-    offset += length;
-  } while (offset < bytes.size());
+ArtifactSender::ArtifactSender(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer,
+                               const v1::ArtifactRef& artifact)
+    : writer_(writer) {
+  *message_.mutable_artifact() = artifact;
+}
+
+void ArtifactSender::Write(std::string_view chunk) {
+  message_.set_chunk(std::string(chunk));
+  if (!writer_.Write(message_)) throw Error(ErrorCode::kUnavailable, "DownloadArtifact: the client went away");
+  message_.clear_artifact();
+  first_ = false;
+}
+
+void ArtifactSender::Send(std::string_view bytes) {
+  for (size_t offset = 0; offset < bytes.size(); offset += kChunkBytes) Write(bytes.substr(offset, kChunkBytes));
+}
+
+void ArtifactSender::Finish() {
+  if (first_) Write({});  // an empty artifact: the header alone
 }
 
 }  // namespace loom::rpc

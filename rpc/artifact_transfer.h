@@ -34,9 +34,21 @@ struct Download {
 Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader);
 void VerifyDownload(const Download& download, std::string_view sha256);
 
-// Server side of a download.
-void SendArtifact(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact,
-                  std::string_view bytes);
+// Server side of a download: the bytes as they are read, in kChunkBytes messages,
+// the first carrying `artifact`. Send throws Error(kUnavailable) once the client
+// has gone away; Finish after the last piece.
+class ArtifactSender {
+ public:
+  ArtifactSender(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer, const v1::ArtifactRef& artifact);
+  void Send(std::string_view bytes);
+  void Finish();
+
+ private:
+  void Write(std::string_view chunk);
+  grpc::ServerWriterInterface<v1::ArtifactChunk>& writer_;
+  v1::ArtifactChunk message_;
+  bool first_ = true;
+};
 
 // Uploads `bytes` through `stub` (LoomService or WorkerService).
 template <typename Stub>

@@ -19,7 +19,7 @@ PACKAGES=(
   libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
-  libembree-dev libsqlite3-dev libcli11-dev libglm-dev libtinyobjloader-dev
+  libembree-dev libsqlite3-dev libcli11-dev libglm-dev
   nlohmann-json3-dev libssl-dev
   libyaml-cpp-dev
   gnuplot-nox

@@ -38,11 +38,12 @@ v1::CachedFabric ToCachedFabric(const FabricEntry& entry) {
 void SendStoredArtifact(ArtifactStore& artifacts, const std::string& sha256,
                         grpc::ServerWriter<v1::ArtifactChunk>& writer) {
   CheckArtifactHash(sha256, "sha256");
-  const std::string bytes = artifacts.Read(sha256);
   v1::ArtifactRef artifact;
   artifact.set_sha256(sha256);
-  artifact.set_size(bytes.size());
-  rpc::SendArtifact(writer, artifact, bytes);
+  artifact.set_size(artifacts.Size(sha256));
+  rpc::ArtifactSender sender(writer, artifact);
+  artifacts.ReadInPieces(sha256, [&sender](std::string_view piece) { sender.Send(piece); });
+  sender.Finish();
 }
 
 grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,

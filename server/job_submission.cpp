@@ -158,7 +158,9 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   // Parses every mesh now (errors name the object), so a bad OBJ is refused here
   // rather than failing on a worker.
   const std::vector<SceneMesh> geometry =
-      BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh) { return artifacts.Read(mesh.artifact()); });
+      BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh, const TextSink& consume) {
+        artifacts.ReadInPieces(mesh.artifact(), consume);
+      });
 
   v1::Job job;
   job.set_kind(v1::JOB_KIND_RENDER);

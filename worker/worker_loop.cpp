@@ -290,11 +290,11 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
   }
   FittedFabrics fitted;
   for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
-  const MeshTextResolver meshes = [this](const v1::MeshRef& mesh) {
+  const MeshTextResolver meshes = [this](const v1::MeshRef& mesh, const TextSink& consume) {
     if (mesh.source_case() != v1::MeshRef::kArtifact) {
       throw Error(ErrorCode::kInvalidArgument, "a worker reads uploaded mesh artifacts only");
     }
-    return DownloadForJob(*stub_, mesh.artifact());
+    consume(DownloadForJob(*stub_, mesh.artifact()));
   };
   return {timed([&] {
     return runner.Render(job.render(), meshes, fitted,

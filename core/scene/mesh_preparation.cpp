@@ -66,6 +66,8 @@ void ComputeMissingNormals(TriangleMesh& mesh) {
 
 MeshPreparationReport PrepareMesh(TriangleMesh& mesh, const char* source) {
   MeshPreparationReport report;
+  const bool parameterised = !mesh.uvs.empty();
+  if (!parameterised) mesh.uvs.assign(mesh.positions.size(), glm::vec2(0.0f));
   if (mesh.uvs.size() != mesh.positions.size()) {
     throw Error(ErrorCode::kInvalidArgument, std::string("mesh ") + source + ": every vertex needs a uv");
   }
@@ -111,6 +113,7 @@ MeshPreparationReport PrepareMesh(TriangleMesh& mesh, const char* source) {
     const float handedness = glm::dot(glm::cross(n, t), dv[v]) < 0.0f ? -1.0f : 1.0f;
     mesh.tangents[v] = glm::vec4(t, handedness);
   }
+  if (!parameterised) report.zero_area_uv_triangles = report.fallback_tangents = 0;  // nothing to tile
   if (report.zero_area_uv_triangles > 0) {
     spdlog::warn("mesh {}: {} triangle(s) with zero UV area (the fabric is squashed there)", source,
                  report.zero_area_uv_triangles);

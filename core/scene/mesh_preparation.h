@@ -17,7 +17,8 @@ struct MeshPreparationReport {
 };
 
 // `source` names the mesh in errors and warnings. Throws Error(kInvalidArgument)
-// when no triangle is left.
+// when no triangle is left. A mesh without UVs (a plain diffuse object's) gets
+// (0, 0) everywhere and tangents perpendicular to its normals, without a warning.
 MeshPreparationReport PrepareMesh(TriangleMesh& mesh, const char* source);
 
 }  // namespace loom

@@ -5,6 +5,7 @@
 #include "core/scene/builtin_shapes.h"
 #include "core/scene/camera.h"
 #include "core/scene/obj_loader.h"
+#include "core/spec/limits.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 
@@ -34,14 +35,27 @@ void Transform(TriangleMesh& mesh, const glm::mat4& model) {
   for (glm::vec4& t : mesh.tangents) t = glm::vec4(glm::normalize(linear * glm::vec3(t)), t.w * flip);
 }
 
+// A built-in shape's share of the scene's caps (its segments are capped, but a
+// scene may repeat it).
+void CheckWithinLimits(const TriangleMesh& mesh, const MeshLimits& left, const std::string& label) {
+  if (static_cast<int64_t>(mesh.triangle_count()) > left.triangles ||
+      static_cast<int64_t>(mesh.positions.size()) > left.vertices) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "mesh " + label + ": " + std::to_string(mesh.triangle_count()) + " triangles and " +
+                    std::to_string(mesh.positions.size()) + " vertices exceed what the scene's earlier objects left of " +
+                    "its caps (" + std::to_string(kMaxMeshTriangles) + " triangles, " +
+                    std::to_string(kMaxMeshVertices) + " vertices)");
+  }
+}
+
 }  // namespace
 
 MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory) {
-  return [scene_directory](const v1::MeshRef& mesh) -> std::string {
+  return [scene_directory](const v1::MeshRef& mesh, const TextSink& consume) {
     if (mesh.source_case() != v1::MeshRef::kObjPath) {
       throw Error(ErrorCode::kInvalidArgument, "mesh artifacts are resolved by the server, not from files");
     }
-    return ReadFile(scene_directory / mesh.obj_path());
+    ReadFileInPieces(scene_directory / mesh.obj_path(), consume);
   };
 }
 
@@ -62,6 +76,7 @@ glm::mat4 ModelMatrix(const v1::Transform& transform) {
 
 std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve) {
   std::vector<SceneMesh> meshes;
+  MeshLimits left;  // what the objects so far have left of the scene's caps
   for (int i = 0; i < scene.objects_size(); ++i) {
     const v1::SceneObject& object = scene.objects(i);
     const std::string label = "scene.objects[" + std::to_string(i) + "]" +
@@ -70,8 +85,20 @@ std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const Mesh
     built.object = &object;
     const v1::MeshRef& ref = object.mesh();
     const int segments = ref.segments() > 0 ? static_cast<int>(ref.segments()) : kDefaultSegments;
-    built.mesh = ref.source_case() == v1::MeshRef::kBuiltin ? BuiltinMesh(ref.builtin(), segments)
-                                                            : ParseObj(resolve(ref), label);
+    if (ref.source_case() == v1::MeshRef::kBuiltin) {
+      built.mesh = BuiltinMesh(ref.builtin(), segments);
+      CheckWithinLimits(built.mesh, left, label);
+    } else {
+      ObjParser parser(label, left);
+      resolve(ref, [&parser](std::string_view piece) { parser.Feed(piece); });
+      built.mesh = parser.Finish();
+    }
+    left.triangles -= static_cast<int64_t>(built.mesh.triangle_count());
+    left.vertices -= static_cast<int64_t>(built.mesh.positions.size());
+    if (object.has_fabric() && built.mesh.uvs.empty()) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "mesh " + label + ": has no texture coordinates (vt): a fabric is tiled over the mesh through its UVs");
+    }
     built.report = PrepareMesh(built.mesh, label.c_str());
     Transform(built.mesh, ModelMatrix(object.transform()));
     meshes.push_back(std::move(built));

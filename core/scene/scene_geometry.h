@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/scene/mesh_preparation.h"
@@ -20,15 +21,21 @@ struct SceneMesh {
   MeshPreparationReport report;
 };
 
-// Returns the OBJ text of a mesh given by obj_path or artifact. Front ends decide
-// what may be opened: loom-lab reads files next to the scene, the server reads
-// uploaded artifacts only.
-using MeshTextResolver = std::function<std::string(const v1::MeshRef& mesh)>;
+// Streams the OBJ text of a mesh given by obj_path or artifact to `consume`, in
+// pieces of any size, so that a large mesh is parsed as it is read. Front ends
+// decide what may be opened: loom-lab reads files next to the scene, the server
+// reads uploaded artifacts only.
+using TextSink = std::function<void(std::string_view piece)>;
+using MeshTextResolver = std::function<void(const v1::MeshRef& mesh, const TextSink& consume)>;
 
-// Reads obj_path relative to `scene_directory`; refuses artifacts.
+// Reads obj_path relative to `scene_directory` in 1 MiB pieces; refuses artifacts.
 MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory);
 
-// `scene` with defaults applied and validated. Errors name the object.
+// `scene` with defaults applied and validated. Errors name the object. Every
+// object's mesh counts towards one MeshLimits (core/scene/obj_loader.h): the
+// scene's triangles and vertices together stay within the caps, whatever its
+// objects repeat. An object with a fabric needs texture coordinates; one without
+// may have none (it is plain diffuse).
 std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve);
 
 // The bounding box of every mesh of a scene.

@@ -4,6 +4,7 @@
 // the docs, the validator and the tests. core/spec/validate.h enforces the caps on
 // spec fields; loaders enforce the rest (kMaxMeshTriangles).
 
+#include <cstddef>
 #include <cstdint>
 
 namespace loom {
@@ -102,8 +103,15 @@ inline constexpr int kMaxObjects = 64;
 inline constexpr int kMaxLights = 16;
 // Built-in shape tessellation; 1024² quads is already 2M triangles.
 inline constexpr uint32_t kMaxSegments = 1024;
-// Triangles per mesh (OBJ uploads and tessellated built-ins); bounds GPU memory.
+// Triangles of a scene's meshes, every object's together (OBJ uploads and
+// tessellated built-ins); bounds the memory of a parse and of the GPU's buffers
+// (docs/operations.md "Limits").
 inline constexpr int64_t kMaxMeshTriangles = 4'000'000;
+// Vertices of a scene's meshes together, and each OBJ's positions, texture
+// coordinates and normals.
+inline constexpr int64_t kMaxMeshVertices = 4'000'000;
+// One line of an OBJ file (a face of ~50k corners).
+inline constexpr size_t kMaxObjLineBytes = size_t{1} << 20;
 // Tile repeats across the UV square; beyond this a tile is far below a pixel.
 inline constexpr float kMaxRepeat = 4096.0f;
 // Perspective field of view in degrees: (0, 170); at 180 the projection is singular.

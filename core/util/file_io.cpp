@@ -21,6 +21,21 @@ std::string ReadFile(const std::filesystem::path& path) {
   return contents.str();
 }
 
+void ReadFileInPieces(const std::filesystem::path& path, const std::function<void(std::string_view)>& consume,
+                      size_t piece_bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw Error(ErrorCode::kNotFound, "cannot read " + path.string() + ": " + std::strerror(errno));
+  }
+  std::string piece(piece_bytes, '\0');
+  while (in) {
+    in.read(piece.data(), static_cast<std::streamsize>(piece.size()));
+    const auto count = static_cast<size_t>(in.gcount());
+    if (count > 0) consume(std::string_view(piece.data(), count));
+  }
+  if (in.bad()) throw Error(ErrorCode::kNotFound, "cannot read " + path.string() + ": " + std::strerror(errno));
+}
+
 void WriteFileAtomic(const std::filesystem::path& path, std::string_view bytes) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   std::filesystem::path temp = path;

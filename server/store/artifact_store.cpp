@@ -214,24 +214,45 @@ void ArtifactStore::RemoveIfUnpinnedLocked(const std::string& hash) {
   if (!db_->Query("SELECT 1 FROM artifact_pins WHERE hash = ?", hash).Step()) ForgetLocked(hash);
 }
 
-std::string ArtifactStore::Load(const std::string& hash) {
+void ArtifactStore::LoadInPieces(const std::string& hash, const std::function<void(std::string_view)>& consume) {
   {
     std::lock_guard lock(mu_);
     if (!HasLocked(hash)) throw Error(ErrorCode::kNotFound, "artifact " + hash + " is not in the store");
   }
   // Read and hash outside the lock: other requests go on meanwhile.
-  std::optional<std::string> bytes;
+  Sha256 hasher;
+  uint64_t size = 0;
+  bool readable = true;
   try {
-    bytes = ReadFile(PathOf(hash));
-  } catch (const Error&) {  // removed (evicted) since the check
+    ReadFileInPieces(PathOf(hash), [&](std::string_view piece) {
+      hasher.Update(piece);
+      size += piece.size();
+      consume(piece);
+    });
+  } catch (const Error& error) {
+    if (error.code() != ErrorCode::kNotFound) throw;  // the consumer's own error
+    readable = false;                                 // removed (evicted) since the check
   }
-  const std::string actual = bytes ? Sha256Hex(*bytes) : std::string();
-  if (bytes && actual == hash) return std::move(*bytes);
+  const std::string actual = readable ? hasher.FinishHex() : std::string();
+  if (readable && actual == hash) return;
   std::lock_guard lock(mu_);
   ForgetLocked(hash);
-  if (!bytes) throw Error(ErrorCode::kNotFound, "artifact " + hash + " is not in the store");
-  throw Error(ErrorCode::kNotFound, "artifact " + hash + " was corrupt (its " + std::to_string(bytes->size()) +
+  if (!readable) throw Error(ErrorCode::kNotFound, "artifact " + hash + " is not in the store");
+  throw Error(ErrorCode::kNotFound, "artifact " + hash + " was corrupt (its " + std::to_string(size) +
                                         " bytes hash to " + actual + ") and has been removed");
+}
+
+std::string ArtifactStore::Load(const std::string& hash) {
+  std::string bytes;
+  LoadInPieces(hash, [&bytes](std::string_view piece) { bytes.append(piece); });
+  return bytes;
+}
+
+void ArtifactStore::ReadInPieces(std::string_view hash, const std::function<void(std::string_view)>& consume) {
+  CheckArtifactHash(hash);
+  LoadInPieces(std::string(hash), consume);
+  std::lock_guard lock(mu_);
+  TouchLocked(std::string(hash));
 }
 
 std::string ArtifactStore::Read(std::string_view hash) {

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -91,6 +92,12 @@ class ArtifactStore {
   // The verified bytes (the whole artifact in memory). Missing: kNotFound.
   // Corrupt: deleted, then kNotFound saying so. Marks the artifact as most recently used.
   std::string Read(std::string_view hash);
+  // Read's bytes handed to `consume` a piece (1 MiB) at a time, for artifacts too
+  // large to hold whole. The checksum can only be checked at the end: a corrupt
+  // file is deleted and kNotFound thrown after `consume` has seen its bytes, so act
+  // on them only once ReadInPieces has returned. A kNotFound the consumer throws is
+  // taken for a vanished file; throw another code.
+  void ReadInPieces(std::string_view hash, const std::function<void(std::string_view)>& consume);
   // Read's check without returning the bytes: false if missing or corrupt (deleted).
   bool Verify(std::string_view hash);
 
@@ -126,6 +133,7 @@ class ArtifactStore {
   // The verified bytes; a missing or corrupt file is forgotten and kNotFound thrown.
   // Takes mu_ itself, but reads and hashes without it.
   std::string Load(const std::string& hash);
+  void LoadInPieces(const std::string& hash, const std::function<void(std::string_view)>& consume);
 
   // With mu_ held.
   void AddCommitted(const std::filesystem::path& temp_path, const std::string& hash, uint64_t size);

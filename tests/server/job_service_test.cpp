@@ -353,6 +353,35 @@ TEST_F(ServiceTest, BadRequestsAreInvalidArgumentNamingTheFieldAndStoreNothing) 
   EXPECT_EQ(JobCount(client), 0);
 }
 
+// The crash a client written from the protos found (issue 22): an uploaded OBJ
+// whose face refers past the end of its vertex list, or before its start, or to a
+// texture coordinate past the end, killed loom-server with SIGSEGV in SubmitJob.
+TEST_F(ServiceTest, MeshesWithIndicesOutOfRangeAreRefusedAndTheServerGoesOn) {
+  ServerOptions options;
+  options.local_workers = 0;
+  StartServer(options);
+  auto stub = RawStub(*server_, "");
+  client::JobClient client = Client();
+  const v1::Job before = client.Submit(PrecomputeRequest()).job();
+  const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+  for (const std::string& face : {"f 1/1 2/2 100000000/3", "f 1/1 2/2 -100000000/3", "f 1/1 2/2 3/100000000",
+                                  "f 1/1 2/2 3/-5"}) {
+    const std::string obj = head + face + "\n";
+    v1::UploadArtifactRequest::Header header;
+    *header.mutable_artifact() = rpc::MakeArtifactRef("mesh.obj", obj);
+    rpc::UploadArtifact(*stub, header, obj);
+    v1::SceneSpec scene = TinyScene();
+    scene.mutable_objects(0)->mutable_mesh()->set_artifact(header.artifact().sha256());
+    const grpc::Status status = RawSubmit(*stub, RenderRequest(scene));
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << face;
+    EXPECT_THAT(status.error_message(), HasSubstr("scene.objects[0] (cloth): line 7: face refers to ")) << face;
+    EXPECT_THAT(status.error_message(), HasSubstr("defined before it")) << face;
+  }
+  // Alive, and nothing it held was lost.
+  EXPECT_EQ(client.Get(before.id()).state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(JobCount(client), 1);
+}
+
 TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   ServerOptions options;
   options.local_workers = 0;  // everything is queued before any work starts

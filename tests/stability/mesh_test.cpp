@@ -51,7 +51,7 @@ TEST(StabilityMesh, ZeroAreaUvTrianglesRenderWithoutNaN) {
   options.mesh = R"({"obj_path": "squashed_uv_plane.obj"})";
   const v1::SceneSpec scene = MakeComparisonScene(options);
   const std::string obj = SquashedUvPlaneObj();
-  const MeshTextResolver resolve = [&](const v1::MeshRef&) { return obj; };
+  const MeshTextResolver resolve = [&](const v1::MeshRef&, const TextSink& consume) { consume(obj); };
 
   const std::vector<SceneMesh> meshes = BuildSceneGeometry(scene, resolve);
   Figure("zero_area_uv", "mesh", "zero_area_uv_triangles", static_cast<double>(meshes[0].report.zero_area_uv_triangles),

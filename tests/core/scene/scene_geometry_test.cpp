@@ -34,14 +34,56 @@ TEST(SceneGeometry, ArtifactsAreNotReadFromFiles) {
   EXPECT_THROW(BuildSceneGeometry(scene, FileMeshResolver(".")), Error);
 }
 
+MeshTextResolver Text(std::string obj) {
+  return [obj](const v1::MeshRef&, const TextSink& consume) { consume(obj); };
+}
+
+constexpr const char* kUvlessTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
 TEST(SceneGeometry, ObjErrorsNameTheObject) {
-  const auto scene = Scene(R"({"objects": [{"name": "cloth", "mesh": {"obj_path": "flat.obj"}}],
-      "camera": {"position": {"x": 0, "y": -3, "z": 1}}})");
+  const auto scene = Scene(R"({"objects": [{"name": "cloth", "mesh": {"obj_path": "flat.obj"},
+      "fabric": {"fabric": {"knit": {}}}}], "camera": {"position": {"x": 0, "y": -3, "z": 1}}})");
   try {
-    BuildSceneGeometry(scene, [](const v1::MeshRef&) { return std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"); });
+    BuildSceneGeometry(scene, Text(kUvlessTriangle));
     FAIL();
   } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("scene.objects[0] (cloth)"), std::string::npos) << error.what();
+    EXPECT_EQ(std::string(error.what()),
+              "mesh scene.objects[0] (cloth): has no texture coordinates (vt): a fabric is tiled over the mesh "
+              "through its UVs");
+  }
+}
+
+TEST(SceneGeometry, PlainObjectsNeedNoUvs) {
+  const auto scene = Scene(R"({"objects": [{"name": "table", "mesh": {"obj_path": "table.obj"}}],
+      "camera": {"position": {"x": 0, "y": -3, "z": 1}}})");
+  const auto meshes = BuildSceneGeometry(scene, Text(kUvlessTriangle));
+  ASSERT_EQ(meshes.size(), 1u);
+  EXPECT_EQ(meshes[0].mesh.uvs.size(), 3u);
+  EXPECT_EQ(meshes[0].mesh.tangents.size(), 3u);
+  EXPECT_EQ(meshes[0].report.zero_area_uv_triangles, 0u);
+}
+
+// The caps hold for the scene's objects together: repeating one mesh does not
+// multiply what a scene may build.
+TEST(SceneGeometry, TheCapsHoldForTheWholeScene) {
+  std::string objects;
+  for (int i = 0; i < 64; ++i) objects += std::string(i ? "," : "") + R"({"mesh": {"obj_path": "big.obj"}})";
+  const auto scene =
+      Scene((R"({"objects": [)" + objects + R"(], "camera": {"position": {"x": 0, "y": -3, "z": 1}}})").c_str());
+  // A strip of 100k triangles on 100 002 vertices: the 40th copy passes the
+  // vertex cap (4M − 39 × 100 002 = 99 922 left).
+  std::string strip = "v 0 0 0\nv 0 1 0\n";
+  for (int i = 1; i <= 50'000; ++i) strip += "v " + std::to_string(i) + " 0 0\nv " + std::to_string(i) + " 1 0\n";
+  for (int i = 0; i < 50'000; ++i) {
+    const int a = 2 * i + 1;
+    strip += "f " + std::to_string(a) + " " + std::to_string(a + 2) + " " + std::to_string(a + 1) + "\nf " +
+             std::to_string(a + 1) + " " + std::to_string(a + 2) + " " + std::to_string(a + 3) + "\n";
+  }
+  try {
+    BuildSceneGeometry(scene, Text(strip));
+    FAIL();
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "mesh scene.objects[39]: line 99923: more than 99922 positions (v)");
   }
 }
 
