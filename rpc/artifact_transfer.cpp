@@ -7,23 +7,6 @@
 #include "rpc/channel.h"
 
 namespace loom::rpc {
-namespace {
-
-void CheckContent(const v1::ArtifactRef& expected, std::string_view bytes, std::string_view what) {
-  if (bytes.size() != expected.size()) {
-    throw Error(ErrorCode::kInvalidArgument, std::string(what) + " '" + expected.name() + "': received " +
-                                                 std::to_string(bytes.size()) + " bytes, header says " +
-                                                 std::to_string(expected.size()));
-  }
-  const std::string actual = Sha256Hex(bytes);
-  if (actual != expected.sha256()) {
-    throw Error(ErrorCode::kInvalidArgument, std::string(what) + " '" + expected.name() + "': SHA-256 " + actual +
-                                                 " does not match the header's " + expected.sha256());
-  }
-}
-
-}  // namespace
-
 v1::ArtifactRef MakeArtifactRef(std::string name, std::string_view bytes) {
   v1::ArtifactRef artifact;
   artifact.set_name(std::move(name));
@@ -45,28 +28,39 @@ void WriteUpload(grpc::ClientWriterInterface<v1::UploadArtifactRequest>& writer,
   writer.WritesDone();
 }
 
-Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader) {
-  Download download;
-  v1::ArtifactChunk chunk;
-  bool first = true;
-  while (reader.Read(&chunk)) {
-    if (first) download.artifact = chunk.artifact();
-    first = false;
-    if (download.bytes.size() + chunk.chunk().size() > download.artifact.size()) {
-      throw Error(ErrorCode::kInternal, "DownloadArtifact: the server sent more than the " +
-                                            std::to_string(download.artifact.size()) + " bytes it announced");
+DownloadReceiver::DownloadReceiver(std::string sha256, std::function<void(std::string_view)> consume)
+    : sha256_(std::move(sha256)), consume_(std::move(consume)) {}
+
+void DownloadReceiver::Receive(const v1::ArtifactChunk& message) {
+  if (first_) {
+    announced_ = message.artifact();
+    if (announced_.sha256() != sha256_) {
+      throw Error(ErrorCode::kInternal, "DownloadArtifact: asked for " + sha256_ + ", the server sent " +
+                                            announced_.sha256());
     }
-    download.bytes += chunk.chunk();
   }
-  return download;
+  first_ = false;
+  if (bytes_ + message.chunk().size() > announced_.size()) {
+    throw Error(ErrorCode::kInternal, "downloaded artifact " + sha256_ + ": more than the " +
+                                                 std::to_string(announced_.size()) + " bytes announced");
+  }
+  bytes_ += message.chunk().size();
+  hasher_.Update(message.chunk());
+  consume_(message.chunk());
 }
 
-void VerifyDownload(const Download& download, std::string_view sha256) {
-  if (download.artifact.sha256() != sha256) {
-    throw Error(ErrorCode::kInternal, "DownloadArtifact: asked for " + std::string(sha256) + ", the server sent " +
-                                          download.artifact.sha256());
+void DownloadReceiver::Finish() {
+  if (first_) throw Error(ErrorCode::kInternal, "downloaded artifact " + sha256_ + ": the stream was empty");
+  if (bytes_ != announced_.size()) {
+    throw Error(ErrorCode::kInternal, "downloaded artifact " + sha256_ + ": received " +
+                                                 std::to_string(bytes_) + " bytes, header says " +
+                                                 std::to_string(announced_.size()));
   }
-  CheckContent(download.artifact, download.bytes, "downloaded artifact");
+  const std::string actual = hasher_.FinishHex();
+  if (actual != sha256_) {
+    throw Error(ErrorCode::kInternal, "downloaded artifact " + sha256_ + ": SHA-256 " + actual +
+                                                 " does not match");
+  }
 }
 
 ArtifactSender::ArtifactSender(grpc::ServerWriterInterface<v1::ArtifactChunk>& writer,

@@ -10,9 +10,11 @@
 #include <grpcpp/support/sync_stream.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
+#include "core/util/sha256.h"
 #include "loom/v1/service.pb.h"
 #include "rpc/status.h"
 
@@ -25,14 +27,25 @@ v1::ArtifactRef MakeArtifactRef(std::string name, std::string_view bytes);
 void WriteUpload(grpc::ClientWriterInterface<v1::UploadArtifactRequest>& writer,
                  const v1::UploadArtifactRequest::Header& header, std::string_view bytes);
 
-// Receiver side of a download: every chunk, checked against the first message's
-// size and hash once the stream ends (call after Finish succeeded).
-struct Download {
-  v1::ArtifactRef artifact;
-  std::string bytes;
+// Receiver side of a download: each message's bytes handed on as they arrive,
+// hashed and counted against the first message's size and SHA-256, which Finish
+// (after the stream's Finish succeeded) checks against the hash asked for. More
+// bytes than announced end it at once. A damaged transfer, or a server that sent
+// another artifact, is Error(kInternal): worth a retry, unlike bad input.
+class DownloadReceiver {
+ public:
+  DownloadReceiver(std::string sha256, std::function<void(std::string_view)> consume);
+  void Receive(const v1::ArtifactChunk& message);
+  void Finish();
+
+ private:
+  const std::string sha256_;
+  const std::function<void(std::string_view)> consume_;
+  v1::ArtifactRef announced_;
+  bool first_ = true;
+  uint64_t bytes_ = 0;
+  Sha256 hasher_;
 };
-Download ReadDownload(grpc::ClientReaderInterface<v1::ArtifactChunk>& reader);
-void VerifyDownload(const Download& download, std::string_view sha256);
 
 // Server side of a download: the bytes as they are read, in kChunkBytes messages,
 // the first carrying `artifact`. Send throws Error(kUnavailable) once the client
@@ -61,17 +74,35 @@ v1::ArtifactRef UploadArtifact(Stub& stub, const v1::UploadArtifactRequest::Head
   return response.artifact();
 }
 
-// Downloads the artifact with this hash through `stub`, verified.
+// Downloads the artifact with this hash through `stub`, handing its bytes to
+// `consume` as they arrive; verified at the end (act on the bytes only once it
+// returned).
 template <typename Stub>
-std::string DownloadArtifact(Stub& stub, const std::string& sha256) {
+void DownloadArtifactInPieces(Stub& stub, const std::string& sha256,
+                              const std::function<void(std::string_view)>& consume) {
   grpc::ClientContext context;
   v1::DownloadArtifactRequest request;
   request.set_sha256(sha256);
   const auto reader = stub.DownloadArtifact(&context, request);
-  Download download = ReadDownload(*reader);
+  DownloadReceiver receiver(sha256, consume);
+  v1::ArtifactChunk message;
+  try {
+    while (reader->Read(&message)) receiver.Receive(message);
+  } catch (...) {
+    context.TryCancel();
+    reader->Finish();
+    throw;
+  }
   ThrowIfFailed(reader->Finish(), "DownloadArtifact " + sha256);
-  VerifyDownload(download, sha256);
-  return std::move(download.bytes);
+  receiver.Finish();
+}
+
+// The whole artifact in memory, verified.
+template <typename Stub>
+std::string DownloadArtifact(Stub& stub, const std::string& sha256) {
+  std::string bytes;
+  DownloadArtifactInPieces(stub, sha256, [&bytes](std::string_view piece) { bytes.append(piece); });
+  return bytes;
 }
 
 }  // namespace loom::rpc

@@ -1,6 +1,7 @@
 #include "server/job_service.h"
 
 #include <chrono>
+#include <optional>
 
 #include "core/util/error.h"
 #include "core/version.h"
@@ -50,6 +51,9 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
                                    v1::SubmitJobResponse* response) {
   return Guard(*context, state_.client_token, "SubmitJob", [&] {
     if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
+    // A render's meshes are parsed here: within the server's parse slots.
+    std::optional<ParseSlots::Slot> slot;
+    if (request->has_render()) slot.emplace(state_.parse_slots.Acquire([context] { return context->IsCancelled(); }));
     *response = server::SubmitJob(*request, state_.queue, state_.artifacts, state_.cache);
   });
 }

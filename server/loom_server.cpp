@@ -34,6 +34,9 @@ void CheckOptions(const ServerOptions& options) {
   if (!(options.result_retention_seconds >= 0 && options.result_retention_seconds <= 365.0 * 86'400)) {
     throw Error(ErrorCode::kInvalidArgument, "--result-retention-seconds: must be in [0, 31536000] (a year)");
   }
+  if (options.max_concurrent_parses < 1 || options.max_concurrent_parses > 64) {
+    throw Error(ErrorCode::kInvalidArgument, "--max-concurrent-parses: must be in [1, 64]");
+  }
   if (options.lease_seconds <= 0 || options.stuck_seconds <= 0) {
     throw Error(ErrorCode::kInvalidArgument, "--lease-seconds and --stuck-seconds: must be > 0");
   }
@@ -72,7 +75,7 @@ struct LoomServer::Store {
                               .stuck_after_ms = static_cast<int64_t>(options.stuck_seconds * 1000),
                               .default_max_attempts = options.max_attempts}),
         state(queue, artifacts, cache, clock, options.client_token, options.worker_token,
-              !options.tls_cert_file.empty()),
+              !options.tls_cert_file.empty(), options.max_concurrent_parses),
         job_service(state),
         worker_service(state) {}
 };

@@ -42,6 +42,8 @@ struct ServerOptions {
   uint32_t max_attempts = 3;
   double lease_seconds = 30;
   double stuck_seconds = 600;
+  // Render submissions parsing their meshes at once (server/parse_slots.h).
+  int max_concurrent_parses = 2;
   // Both or neither (Error(kInvalidArgument) otherwise).
   std::string client_token, worker_token;
   // PEM files; both or neither.

@@ -58,6 +58,11 @@ int Main(int argc, char** argv) {
                  "A leased job whose progress has not moved for this long is requeued as stuck")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--max-concurrent-parses", options.max_concurrent_parses,
+                 "Render submissions that parse their meshes at once; more wait. Each may take as much memory as "
+                 "the mesh caps allow (docs/operations.md \"Limits\")")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   app.add_option("--client-token-file", client_token_file, "File holding the clients' bearer token")
       ->check(CLI::ExistingFile);
   app.add_option("--worker-token-file", worker_token_file, "File holding the workers' bearer token")

@@ -32,9 +32,9 @@ size_t WorkerRegistry::size() const {
 }
 
 ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
-                           std::string client_token, std::string worker_token, bool tls)
+                           std::string client_token, std::string worker_token, bool tls, int parse_slots)
     : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
-      worker_token(std::move(worker_token)), tls(tls) {
+      worker_token(std::move(worker_token)), tls(tls), parse_slots(parse_slots) {
   queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
     if (kind == v1::JOB_KIND_RENDER) artifacts.UnpinAll(JobPinOwner(id));
   });

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "loom/v1/service.pb.h"
+#include "server/parse_slots.h"
 #include "server/store/artifact_store.h"
 #include "server/store/fabric_cache.h"
 #include "server/store/job_queue.h"
@@ -32,7 +33,7 @@ struct ServiceState {
   // Listens to the queue's job endings: a render job's mesh pins are released
   // however the job ends.
   ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
-               std::string client_token, std::string worker_token, bool tls);
+               std::string client_token, std::string worker_token, bool tls, int parse_slots = 2);
 
   JobQueue& queue;
   ArtifactStore& artifacts;
@@ -43,6 +44,8 @@ struct ServiceState {
   std::string worker_token;
   bool tls;
   WorkerRegistry workers;
+  // A render's SubmitJob parses its meshes in one of these.
+  ParseSlots parse_slots;
   std::atomic<bool> draining{false};
   // --result-retention-seconds: how long a finished render's frames are kept from
   // eviction after the job ends (0: not at all, they are ordinary cache entries).

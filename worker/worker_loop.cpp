@@ -44,18 +44,6 @@ v1::WorkerCapabilities Capabilities(const gl::DeviceInfo& device, const std::str
   return capabilities;
 }
 
-// An artifact a job reads. A transfer that arrives damaged (kInvalidArgument from
-// the checksum check) is worth a retry, unlike bad input: it becomes kInternal, a
-// retryable failure.
-std::string DownloadForJob(v1::WorkerService::Stub& stub, const std::string& sha256) {
-  try {
-    return rpc::DownloadArtifact(stub, sha256);
-  } catch (const Error& error) {
-    if (error.code() != ErrorCode::kInvalidArgument) throw;
-    throw Error(ErrorCode::kInternal, std::string("download of artifact ") + sha256 + ": " + error.what());
-  }
-}
-
 // The part of a progress stage before its counter ("acquisition: view 3/64" ->
 // "acquisition"): a new one is worth a log line, a new count is not.
 std::string_view StageName(std::string_view stage) { return stage.substr(0, stage.find(':')); }
@@ -175,7 +163,7 @@ class WorkerLoop::FitCache {
     }
     std::vector<NamedFile> files;
     for (const v1::ArtifactRef& file : asset.files()) {
-      files.push_back({file.name(), DownloadForJob(stub, file.sha256())});
+      files.push_back({file.name(), rpc::DownloadArtifact(stub, file.sha256())});  // damaged: kInternal, retried
     }
     fits_.emplace(fits_.begin(), asset.fabric_key(), runner.ReadAsset(files));
     if (fits_.size() > kKeptFits) fits_.pop_back();
@@ -294,7 +282,8 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
     if (mesh.source_case() != v1::MeshRef::kArtifact) {
       throw Error(ErrorCode::kInvalidArgument, "a worker reads uploaded mesh artifacts only");
     }
-    consume(DownloadForJob(*stub_, mesh.artifact()));
+    // Streamed into the parser: a mesh upload may be large (server/job_service.h).
+    rpc::DownloadArtifactInPieces(*stub_, mesh.artifact(), consume);
   };
   return {timed([&] {
     return runner.Render(job.render(), meshes, fitted,
