@@ -7,6 +7,7 @@
 #include <numeric>
 #include <utility>
 
+#include "core/acquire/hemisphere_directions.h"
 #include "core/spec/limits.h"
 #include "core/util/error.h"
 #include "core/util/vector_math.h"
@@ -114,6 +115,35 @@ std::string EncodeRadianceSamples(const RadianceSamples& s) {
   return out;
 }
 
+// The layout's promises about the values: the direction grids are the ones
+// HemisphereGridDirections makes (fitting and the LUT rely on their order), alpha
+// and normal lengths in [0, 1], unit normals and tangents, radiance >= 0.
+template <typename Fail>
+void CheckValues(const RadianceSamples& s, const Fail& fail) {
+  const auto same_grid = [](const std::vector<glm::vec3>& given) {
+    const std::vector<glm::vec3> grid = HemisphereGridDirections(static_cast<uint32_t>(given.size()));
+    for (size_t i = 0; i < grid.size(); ++i) {
+      if (glm::length(given[i] - grid[i]) > 1e-5f) return false;
+    }
+    return true;
+  };
+  if (!same_grid(s.view_directions) || !same_grid(s.light_directions)) {
+    throw fail("its view or light directions are not the hemisphere grid (core/acquire/hemisphere_directions.h)");
+  }
+  const auto unit = [](const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) < 1e-3f; };
+  const auto fraction = [](float v) { return v >= 0.0f && v <= 1.0f; };
+  if (!std::all_of(s.normals.begin(), s.normals.end(), unit) || !std::all_of(s.tangents.begin(), s.tangents.end(), unit)) {
+    throw fail("a texel normal or tangent is not a unit vector");
+  }
+  if (!std::all_of(s.alpha.begin(), s.alpha.end(), fraction) ||
+      !std::all_of(s.normal_lengths.begin(), s.normal_lengths.end(), fraction)) {
+    throw fail("an alpha or normal length is outside [0, 1]");
+  }
+  if (!std::all_of(s.radiance.begin(), s.radiance.end(), [](const glm::vec3& r) { return glm::all(glm::greaterThanEqual(r, glm::vec3(0.0f))); })) {
+    throw fail("a radiance is negative");
+  }
+}
+
 RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string& source) {
   auto fail = [&](const std::string& why) {
     return Error(ErrorCode::kInvalidArgument, "radiance samples " + source + ": " + why);
@@ -165,6 +195,7 @@ RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string&
         AllFinite(s.tangents) && AllFinite(s.normal_lengths) && AllFinite(s.alpha) && AllFinite(s.radiance))) {
     throw fail("contains a non-finite number");
   }
+  CheckValues(s, fail);
   return s;
 }
 

@@ -4,11 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/spec/defaults.h"
+#include "core/spec/limits.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
@@ -238,6 +241,34 @@ FitLevelStats StatsFromJson(const json& j) {
   return s;
 }
 
+// The manifest's levels: level 0 within the spatial-resolution caps, then either
+// nothing more or every halving down to 1×1 (fitted mip levels need a power of
+// two), and no more LUT texels than the radiance-sample cap allows.
+template <typename Invalid>
+void CheckLevelChain(const json& levels, uint64_t views, const Invalid& invalid) {
+  if (!levels.is_array() || levels.empty()) throw invalid("levels is not a non-empty array");
+  const auto first = levels[0].at("resolution").get<int64_t>();
+  if (first < kMinSpatialResolution || first > kMaxSpatialResolution) {
+    throw invalid("levels[0].resolution " + std::to_string(first) + " is not in [" +
+                  std::to_string(kMinSpatialResolution) + ", " + std::to_string(kMaxSpatialResolution) + "]");
+  }
+  if (uint64_t(first) * uint64_t(first) * views > kMaxRadianceSamples / kMinDirections) {
+    throw invalid(std::to_string(first) + "² texels × " + std::to_string(views) + " views exceed the sample caps");
+  }
+  const size_t chain = std::has_single_bit(uint64_t(first)) ? std::countr_zero(uint64_t(first)) + 1 : 1;
+  if (levels.size() != 1 && levels.size() != chain) {
+    throw invalid(std::to_string(levels.size()) + " levels for resolution " + std::to_string(first) +
+                  ": either 1 or " + std::to_string(chain));
+  }
+  for (size_t j = 1; j < levels.size(); ++j) {
+    const auto resolution = levels[j].at("resolution").get<int64_t>();
+    if (resolution != first >> j) {
+      throw invalid("levels[" + std::to_string(j) + "].resolution " + std::to_string(resolution) + " is not " +
+                    std::to_string(first >> j));
+    }
+  }
+}
+
 // Verifies `name` in `directory` against the manifest's entry; returns its path.
 std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const json& files, const char* name) {
   const std::filesystem::path path = directory / name;
@@ -294,11 +325,25 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
                                                    std::to_string(kAssetFormatVersion));
     }
     FittedFabric fabric;
-    fabric.lobes = manifest.at("lobes");
+    const auto invalid = [&manifest_path](const std::string& what) {
+      return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
+    };
+    const auto lobes = manifest.at("lobes").get<int64_t>();
+    if (lobes < kMinLobes || lobes > kMaxLobes) {
+      throw invalid("lobes " + std::to_string(lobes) + " is not in [" + std::to_string(kMinLobes) + ", " +
+                    std::to_string(kMaxLobes) + "]");
+    }
+    const auto view_count = manifest.at("view_directions").get<int64_t>();
+    if (view_count < kMinDirections || view_count > kMaxDirections) {
+      throw invalid("view_directions " + std::to_string(view_count) + " is not in [" +
+                    std::to_string(kMinDirections) + ", " + std::to_string(kMaxDirections) + "]");
+    }
+    CheckLevelChain(manifest.at("levels"), static_cast<uint64_t>(view_count), invalid);
+    fabric.lobes = static_cast<uint32_t>(lobes);
     fabric.lookup_table = manifest.at("lookup_table");
     fabric.sampling_height = manifest.at("sampling_height");
     fabric.seconds = manifest.at("fit_seconds");
-    fabric.view_directions = HemisphereGridDirections(manifest.at("view_directions").get<uint32_t>());
+    fabric.view_directions = HemisphereGridDirections(static_cast<uint32_t>(view_count));
     const json& files = manifest.at("files");
     const std::filesystem::path parameters_path = VerifiedFile(directory, files, kParametersFile);
     const std::filesystem::path lut_path = VerifiedFile(directory, files, kLutFile);
@@ -328,7 +373,16 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
       const float* value = parameters[j].data();
       for (size_t texel = 0; texel < level.brdfs.size(); ++texel) {
         ForEachParameter(level, texel, fabric.lobes, [&](float& out) { out = *value++; });
-        level.status[texel] = static_cast<TexelFitStatus>(static_cast<int>(*value++));
+        const float status = *value++;
+        if (!(status >= 0.0f && status <= static_cast<float>(TexelFitStatus::kEmpty) && status == std::floor(status))) {
+          throw invalid("parameters.exr level " + std::to_string(j) + " texel " + std::to_string(texel) +
+                        ": status " + std::to_string(status) + " is not a TexelFitStatus");
+        }
+        level.status[texel] = static_cast<TexelFitStatus>(static_cast<int>(status));
+      }
+      if (!std::all_of(parameters[j].begin(), parameters[j].end(), [](float v) { return std::isfinite(v); }) ||
+          !std::all_of(luts[j].begin(), luts[j].end(), [](float v) { return std::isfinite(v); })) {
+        throw invalid("level " + std::to_string(j) + " holds a non-finite number");
       }
       const size_t side = size_t{level.resolution} * k;
       for (size_t texel = 0; texel < level.brdfs.size(); ++texel) {

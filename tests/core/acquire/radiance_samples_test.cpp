@@ -117,6 +117,21 @@ TEST(RadianceSamples, WellFormedFilesWithBadContentAreRejected) {
   short_alpha.alpha.pop_back();
   EXPECT_THROW(EncodeRadianceSamples(short_alpha), Error);
 
+  // Values the layout promises: every one of these would feed the fit nonsense.
+  RadianceSamples bright = Filled();
+  bright.alpha[3] = 1.5f;
+  EXPECT_NE(DecodeError(EncodeRadianceSamples(bright)).find("an alpha or normal length is outside [0, 1]"),
+            std::string::npos);
+  RadianceSamples tilted = Filled();
+  tilted.light_directions[2] = glm::normalize(tilted.light_directions[2] + glm::vec3(0.01f, 0, 0));
+  EXPECT_NE(DecodeError(EncodeRadianceSamples(tilted)).find("not the hemisphere grid"), std::string::npos);
+  RadianceSamples flat = Filled();
+  flat.normals[1] = glm::vec3(0.0f);
+  EXPECT_NE(DecodeError(EncodeRadianceSamples(flat)).find("not a unit vector"), std::string::npos);
+  RadianceSamples negative = Filled();
+  negative.radiance[5].r = -0.25f;
+  EXPECT_NE(DecodeError(EncodeRadianceSamples(negative)).find("a radiance is negative"), std::string::npos);
+
   std::string future = EncodeRadianceSamples(Filled());
   future[8] = 3;  // version 3, checksum recomputed
   future = future.substr(0, future.size() - 64);

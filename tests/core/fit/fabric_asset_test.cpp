@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
@@ -140,6 +141,40 @@ TEST_F(FabricAssetTest, CorruptedImageIsDetected) {
     EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
     EXPECT_NE(std::string(e.what()).find("lut.exr is corrupted"), std::string::npos) << e.what();
   }
+}
+
+// A manifest names the sizes every allocation of the reader follows: each is
+// checked against the caps and the level chain before anything is read.
+TEST_F(FabricAssetTest, ManifestSizesOutsideTheCapsAreClearErrors) {
+  WriteFabricAsset(SmallFabric(), {}, "fabric-key-5", directory_);
+  const nlohmann::json good = nlohmann::json::parse(ReadFile(directory_ / "manifest.json"));
+  const auto error_with = [&](const std::function<void(nlohmann::json&)>& edit) -> std::string {
+    nlohmann::json manifest = good;
+    edit(manifest);
+    WriteFileAtomic(directory_ / "manifest.json", manifest.dump());
+    try {
+      ReadFabricAsset(directory_);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+      return e.what();
+    }
+    return "read";
+  };
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["lobes"] = 7; }).find("lobes 7 is not in [1, 3]"),
+            std::string::npos);
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["view_directions"] = 1 << 20; }).find("view_directions 1048576"),
+            std::string::npos);
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["levels"][0]["resolution"] = 100000; })
+                .find("levels[0].resolution 100000 is not in [2, 256]"),
+            std::string::npos);
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["levels"][1]["resolution"] = 3; })
+                .find("levels[1].resolution 3 is not 2"),
+            std::string::npos);
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["levels"].erase(1); }).find("2 levels for resolution 4"),
+            std::string::npos);
+  EXPECT_NE(error_with([](nlohmann::json& m) { m["lobes"] = "two"; }).find("is not a valid manifest"),
+            std::string::npos);
+  EXPECT_EQ(error_with([](nlohmann::json&) {}), "read");
 }
 
 TEST_F(FabricAssetTest, MissingAssetIsNotFound) {
