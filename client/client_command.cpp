@@ -8,13 +8,18 @@
 #include "core/spec/spec_json.h"
 #include "core/util/cli_main.h"
 #include "core/util/progress_bar.h"
+#include "rpc/auth.h"
 #include "loom/v1/job.pb.h"
 
 namespace loom::client {
 
 JobClient& ClientFlags::Connect() {
   if (!client_) {
-    if (const char* token = std::getenv("LOOM_TOKEN")) channel.token = token;
+    if (!token_file.empty()) {
+      channel.token = rpc::ReadTokenFile(token_file);
+    } else if (const char* token = std::getenv("LOOM_TOKEN")) {
+      channel.token = token;
+    }
     client_ = std::make_unique<JobClient>(rpc::MakeChannel(channel));
   }
   return *client_;
@@ -65,11 +70,8 @@ std::vector<ClientCommand> AddSpecCommands(CLI::App& app, ClientFlags& flags) {
                if (options->normalized) out["normalized"] = nlohmann::json::parse(result.normalized_json);
                std::cout << out.dump() << std::endl;
              } else {
-               if (result.issues.empty()) {
-                 std::printf("%s: valid %s spec\n", options->path.c_str(), options->kind.c_str());
-               } else {
-                 std::fprintf(stderr, "%s", FormatIssues(result.issues).c_str());
-               }
+               std::fprintf(result.issues.empty() ? stdout : stderr, "%s",
+                            SpecCheckText(options->path, ParseSpecKind(options->kind), result).c_str());
                if (options->normalized) std::printf("%s\n", result.normalized_json.c_str());
              }
              return result.issues.empty() ? 0 : ExitCodeFor(ErrorCode::kInvalidArgument);

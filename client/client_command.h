@@ -24,7 +24,8 @@ inline constexpr int kJobFailedExit = 6;
 struct ClientFlags {
   bool json = false;  // one JSON object (or JSON lines for streams) on stdout
   rpc::ChannelOptions channel;
-  // LOOM_TOKEN, read when the first call is made.
+  // --token-file; empty: LOOM_TOKEN, read when the first call is made.
+  std::string token_file;
   JobClient& Connect();
 
  private:

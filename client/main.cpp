@@ -18,12 +18,14 @@ int Main(int argc, char** argv) {
   CLI::App app{"loom " + std::string(kVersion) + ": submit and watch Loom render jobs"};
   app.set_version_flag("--version", kVersion);
   app.footer(
-      "The token is read from LOOM_TOKEN (the server's --client-token-file).\n"
+      "The token is read from --token-file or else LOOM_TOKEN (the server's --client-token-file).\n"
       "Exit codes: 0 ok, 1 internal error, 2 bad input (command line, spec), 3 not found (file, job,\n"
       "fabric), 4 server unreachable, 5 refused (bad token, wrong state), 6 the job failed or was cancelled.");
   ClientFlags flags;
   app.add_flag("--json", flags.json, "Machine-readable output: one JSON object (JSON lines while waiting)");
   app.add_option("--server", flags.channel.address, "Server address")->capture_default_str();
+  app.add_option("--token-file", flags.token_file, "File holding the client token (else LOOM_TOKEN)")
+      ->check(CLI::ExistingFile);
   app.add_option("--tls-ca", flags.channel.tls_ca_file, "PEM CA certificate: connect with TLS, verifying the server")
       ->check(CLI::ExistingFile);
 

@@ -23,10 +23,9 @@ LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags) {
             const SpecCheck check = CheckSpecFile(ParseSpecKind(options->kind), options->path);
             if (flags.json) {
               PrintJson(SpecCheckJson(options->path, check));
-            } else if (check.issues.empty()) {
-              std::printf("%s: valid %s spec\n", options->path.c_str(), options->kind.c_str());
             } else {
-              std::fprintf(stderr, "%s", FormatIssues(check.issues).c_str());
+              std::fprintf(check.issues.empty() ? stdout : stderr, "%s",
+                           SpecCheckText(options->path, ParseSpecKind(options->kind), check).c_str());
             }
             return check.issues.empty() ? 0 : ExitCodeFor(ErrorCode::kInvalidArgument);
           }};

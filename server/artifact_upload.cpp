@@ -22,6 +22,10 @@ v1::ArtifactRef ReceiveUpload(grpc::ServerReaderInterface<v1::UploadArtifactRequ
   ArtifactWriter writer = artifacts.NewWriter();
   while (reader.Read(&message)) {
     if (message.has_header()) throw Error(ErrorCode::kInvalidArgument, "UploadArtifact: a second header");
+    if (message.chunk().size() > kMaxUploadChunkBytes) {
+      throw Error(ErrorCode::kInvalidArgument, "UploadArtifact chunk: " + std::to_string(message.chunk().size()) +
+                                                   " bytes exceed " + std::to_string(kMaxUploadChunkBytes));
+    }
     if (writer.bytes() + message.chunk().size() > artifact.size()) {
       throw Error(ErrorCode::kInvalidArgument, "UploadArtifact '" + artifact.name() +
                                                    "': more bytes than the header's size " +

@@ -16,8 +16,12 @@ namespace loom::server {
 
 using UploadHeaderCheck = std::function<void(const v1::UploadArtifactRequest::Header& header)>;
 
-// Error(kInvalidArgument) when the header is missing, the size exceeds `max_bytes`,
-// or the bytes differ from the header. Returns the stored artifact.
+// Chunks are at most this (service.proto); the message cap is larger only for specs.
+inline constexpr size_t kMaxUploadChunkBytes = size_t{4} << 20;
+
+// Error(kInvalidArgument) when the header is missing or repeated, a chunk exceeds
+// kMaxUploadChunkBytes, the size exceeds `max_bytes`, or the bytes differ from the
+// header. Returns the stored artifact.
 v1::ArtifactRef ReceiveUpload(grpc::ServerReaderInterface<v1::UploadArtifactRequest>& reader,
                               ArtifactStore& artifacts, uint64_t max_bytes, const UploadHeaderCheck& check_header);
 

@@ -17,12 +17,17 @@
 
 namespace loom::server {
 
+// Logs a refused call (a missing or wrong token), at most one warning a second
+// however many arrive: a client without the token cannot flood the log. A warning
+// says how many refusals went unlogged since the last.
+void WarnRefused(std::string_view call, const std::string& peer);
+
 // `token` empty: the server runs without tokens (loopback only).
 template <typename Body>
 grpc::Status Guard(const grpc::ServerContext& context, const std::string& token, std::string_view call,
                    Body&& body) {
   if (!token.empty() && !rpc::HasBearerToken(context, token)) {
-    spdlog::warn("{} from {}: missing or wrong bearer token", call, context.peer());
+    WarnRefused(call, context.peer());
     return {grpc::StatusCode::UNAUTHENTICATED, "missing or wrong bearer token"};
   }
   try {

@@ -1,5 +1,6 @@
 #include "server/job_service.h"
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -17,6 +18,13 @@ namespace {
 using namespace std::chrono_literals;
 
 constexpr size_t kMinKeyPrefix = 8;
+
+// The job id of a request: INVALID_ARGUMENT when empty, so that a client that
+// forgot it is not told the job does not exist.
+const std::string& RequireJobId(const std::string& id, const char* field = "job_id") {
+  if (id.empty()) throw Error(ErrorCode::kInvalidArgument, std::string(field) + ": is empty");
+  return id;
+}
 
 }  // namespace
 
@@ -59,16 +67,32 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
 }
 
 grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
-  return Guard(*context, state_.client_token, "GetJob", [&] { *response = state_.queue.Get(request->job_id()); });
+  return Guard(*context, state_.client_token, "GetJob", [&] { *response = state_.queue.Get(RequireJobId(request->job_id())); });
 }
 
 grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
                                   v1::ListJobsResponse* response) {
   return Guard(*context, state_.client_token, "ListJobs", [&] {
     JobFilter filter;
-    for (const int state : request->states()) filter.states.push_back(static_cast<v1::JobState>(state));
-    for (const int kind : request->kinds()) filter.kinds.push_back(static_cast<v1::JobKind>(kind));
-    JobPage page = state_.queue.List(filter, static_cast<int>(request->page_size()), request->page_token());
+    for (int i = 0; i < request->states_size(); ++i) {
+      const int state = request->states(i);
+      if (!v1::JobState_IsValid(state) || state == v1::JOB_STATE_UNSPECIFIED) {
+        throw Error(ErrorCode::kInvalidArgument, "states[" + std::to_string(i) + "]: " + std::to_string(state) +
+                                                     " is not a job state (JOB_STATE_QUEUED ... JOB_STATE_CANCELLED)");
+      }
+      filter.states.push_back(static_cast<v1::JobState>(state));
+    }
+    for (int i = 0; i < request->kinds_size(); ++i) {
+      const int kind = request->kinds(i);
+      if (!v1::JobKind_IsValid(kind) || kind == v1::JOB_KIND_UNSPECIFIED) {
+        throw Error(ErrorCode::kInvalidArgument, "kinds[" + std::to_string(i) + "]: " + std::to_string(kind) +
+                                                     " is not a job kind (JOB_KIND_PRECOMPUTE, JOB_KIND_RENDER)");
+      }
+      filter.kinds.push_back(static_cast<v1::JobKind>(kind));
+    }
+    // The queue takes at most 1000 a page (the proto's cap); a larger ask gets that.
+    const int page_size = static_cast<int>(std::min<uint32_t>(request->page_size(), 1000));
+    JobPage page = state_.queue.List(filter, page_size, request->page_token(), kMaxListReplyBytes);
     for (v1::Job& job : page.jobs) *response->add_jobs() = std::move(job);
     response->set_next_page_token(page.next_page_token);
   });
@@ -77,7 +101,7 @@ grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJo
 grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
                                   grpc::ServerWriter<v1::JobEvent>* writer) {
   return Guard(*context, state_.client_token, "WatchJob", [&] {
-    const std::string& id = request->job_id();
+    const std::string& id = RequireJobId(request->job_id());
     int64_t next_line = 0;
     uint64_t version = state_.queue.Version();
     while (true) {
@@ -101,7 +125,7 @@ grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJ
 grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
                                    v1::Job* response) {
   return Guard(*context, state_.client_token, "CancelJob", [&] {
-    *response = state_.queue.Cancel(request->job_id());
+    *response = state_.queue.Cancel(RequireJobId(request->job_id()));
     spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
   });
 }
@@ -109,7 +133,7 @@ grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::Cance
 grpc::Status JobService::GetJobLog(grpc::ServerContext* context, const v1::GetJobLogRequest* request,
                                    v1::GetJobLogResponse* response) {
   return Guard(*context, state_.client_token, "GetJobLog", [&] {
-    state_.queue.Get(request->job_id());  // kNotFound for an unknown id
+    state_.queue.Get(RequireJobId(request->job_id()));  // kNotFound for an unknown id
     for (std::string& line : state_.queue.Log(request->job_id(), 0)) response->add_lines(std::move(line));
   });
 }
@@ -178,6 +202,11 @@ grpc::Status JobService::FindMissingArtifacts(grpc::ServerContext* context,
                                               const v1::FindMissingArtifactsRequest* request,
                                               v1::FindMissingArtifactsResponse* response) {
   return Guard(*context, state_.client_token, "FindMissingArtifacts", [&] {
+    if (request->sha256_size() > kMaxFindMissingHashes) {
+      throw Error(ErrorCode::kInvalidArgument, "sha256: " + std::to_string(request->sha256_size()) +
+                                                   " hashes exceed " + std::to_string(kMaxFindMissingHashes) +
+                                                   " per call (ask in batches)");
+    }
     std::vector<std::string> hashes;
     for (int i = 0; i < request->sha256_size(); ++i) {
       CheckArtifactHash(request->sha256(i), "sha256[" + std::to_string(i) + "]");

@@ -10,6 +10,12 @@ namespace loom::server {
 // The largest mesh a client may upload (an OBJ of core/spec/limits.h's
 // kMaxMeshTriangles is well under it).
 inline constexpr uint64_t kMaxMeshUploadBytes = uint64_t{1} << 30;
+// Hashes one FindMissingArtifacts may ask about: its reply stays far below a
+// default client's 4 MiB receive limit.
+inline constexpr int kMaxFindMissingHashes = 10'000;
+// ListJobs stops a page before its jobs pass this many bytes (a default client
+// receives at most 4 MiB); a single larger job still comes alone.
+inline constexpr uint64_t kMaxListReplyBytes = uint64_t{3} << 20;
 
 class JobService final : public v1::LoomService::Service {
  public:

@@ -26,6 +26,11 @@ std::string WorkerRegistry::Register(const v1::WorkerCapabilities& capabilities)
   return id.str();
 }
 
+bool WorkerRegistry::Known(const std::string& worker_id) const {
+  std::lock_guard lock(mu_);
+  return workers_.contains(worker_id);
+}
+
 size_t WorkerRegistry::size() const {
   std::lock_guard lock(mu_);
   return workers_.size();

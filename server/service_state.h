@@ -22,6 +22,8 @@ namespace loom::server {
 class WorkerRegistry {
  public:
   std::string Register(const v1::WorkerCapabilities& capabilities);
+  // Whether `worker_id` registered with this process.
+  bool Known(const std::string& worker_id) const;
   size_t size() const;
 
  private:

@@ -59,6 +59,12 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
                                      v1::LeaseJobResponse* response) {
   return Guard(*context, state_.worker_token, "LeaseJob", [&] {
     if (request->worker_id().empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id: is empty (RegisterWorker)");
+    // A restarted server has forgotten its workers: they register again (NOT_FOUND
+    // tells them to, worker/worker_loop.h).
+    if (!state_.workers.Known(request->worker_id())) {
+      throw Error(ErrorCode::kNotFound, "worker_id: " + request->worker_id() +
+                                            " is not registered with this server (RegisterWorker first)");
+    }
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
     // Waits in slices so that a worker that hung up is not handed a job it will

@@ -217,11 +217,9 @@ void WorkerLoop::Run() {
   MarkAlive("started");
   FitCache fits;
   std::chrono::milliseconds delay = kFirstBackoff;
-  bool registered = false;
   while (!stopping_) {
     try {
-      if (!registered) Register(runner.device());
-      registered = true;
+      if (worker_id_.empty()) Register(runner.device());
       MarkAlive("waiting for work");
       const std::optional<v1::LeaseJobResponse> leased = LeaseJob();
       delay = kFirstBackoff;
@@ -231,7 +229,7 @@ void WorkerLoop::Run() {
       if (error.code() != ErrorCode::kUnavailable) throw;
       spdlog::warn("{}: {}; retrying in {} ms", options_.label, error.what(), delay.count());
       Backoff(delay);
-      registered = false;  // a restarted server has forgotten this worker
+      worker_id_.clear();  // a restarted server has forgotten this worker
     }
   }
   spdlog::info("{}: stopped after {} job(s)", options_.label, completed_jobs_.load());
@@ -255,6 +253,12 @@ std::optional<v1::LeaseJobResponse> WorkerLoop::LeaseJob() {
     pending_lease_ = nullptr;
   }
   if (stopping_) return std::nullopt;
+  if (status.error_code() == grpc::StatusCode::NOT_FOUND) {
+    spdlog::info("{}: the server does not know worker {} (it restarted?); registering again", options_.label,
+                 worker_id_);
+    worker_id_.clear();
+    return std::nullopt;
+  }
   rpc::ThrowIfFailed(status, "LeaseJob");
   if (!response.has_job()) return std::nullopt;
   return response;

@@ -7,7 +7,8 @@
 // over a gRPC channel, so there is one worker code path.
 //
 // When the server cannot be reached the loop retries with exponential backoff
-// (100 ms doubling to 5 s) and registers again. Stop() ends it: no new lease; a
+// (100 ms doubling to 5 s) and registers again; so it does when LeaseJob says the
+// server does not know it (NOT_FOUND: a server restarted between two calls). Stop() ends it: no new lease; a
 // precompute in progress stops at its next progress report and is handed back
 // (FailJob KIND_HANDED_BACK: requeued without using up an attempt); a render finishes.
 

@@ -47,4 +47,11 @@ nlohmann::json SpecCheckJson(const std::string& file, const SpecCheck& check) {
   return {{"file", file}, {"valid", check.issues.empty()}, {"issues", issues}};
 }
 
+std::string SpecCheckText(const std::string& file, SpecKind kind, const SpecCheck& check) {
+  if (check.issues.empty()) return file + ": valid " + SpecKindName(kind) + " spec\n";
+  std::string text;
+  for (const ValidationIssue& issue : check.issues) text += file + ": " + issue.ToString() + "\n";
+  return text;
+}
+
 }  // namespace loom

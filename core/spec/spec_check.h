@@ -30,5 +30,8 @@ SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path);
 
 // {"file", "valid", "issues": [{"path", "message"}...]}, the --json report of a check.
 nlohmann::json SpecCheckJson(const std::string& file, const SpecCheck& check);
+// The plain report: "FILE: valid KIND spec", or one "FILE: field: problem" line per
+// issue; each line ends with a newline.
+std::string SpecCheckText(const std::string& file, SpecKind kind, const SpecCheck& check);
 
 }  // namespace loom

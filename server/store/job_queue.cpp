@@ -721,7 +721,8 @@ v1::Job JobQueue::Get(const std::string& id) const {
   return ToJob(RequireRow(id));
 }
 
-JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string& page_token) const {
+JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string& page_token,
+                       uint64_t max_bytes) const {
   if (page_size <= 0) page_size = kDefaultPageSize;
   page_size = std::min(page_size, kMaxPageSize);
   std::optional<int64_t> before;
@@ -749,13 +750,16 @@ JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string
   query.Bind(++index, page_size + 1);
   JobPage page;
   std::optional<int64_t> last_seq;
+  uint64_t bytes = 0;
   while (query.Step()) {
     const Row row = Row::Read(query);
-    if (static_cast<int>(page.jobs.size()) == page_size) {
+    v1::Job job = ToJob(row);
+    bytes += job.ByteSizeLong();
+    if (static_cast<int>(page.jobs.size()) == page_size || (max_bytes > 0 && bytes > max_bytes && last_seq)) {
       page.next_page_token = JobId(*last_seq);
       break;
     }
-    page.jobs.push_back(ToJob(row));
+    page.jobs.push_back(std::move(job));
     last_seq = row.seq;
   }
   return page;

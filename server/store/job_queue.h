@@ -205,7 +205,10 @@ class JobQueue {
 
   // page_size <= 0: 100; at most 1000. page_token: "" or a previous next_page_token
   // (anything else: kInvalidArgument). Jobs submitted meanwhile never shift pages.
-  JobPage List(const JobFilter& filter, int page_size, const std::string& page_token) const;
+  // `max_bytes` > 0 ends a page early, before its jobs' serialized size would pass
+  // it (a page holds at least one job).
+  JobPage List(const JobFilter& filter, int page_size, const std::string& page_token,
+               uint64_t max_bytes = 0) const;
 
   QueueDepth Depth() const;
 

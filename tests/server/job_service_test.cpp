@@ -34,30 +34,6 @@ v1::Job WaitUntilEnded(client::JobClient& client, const std::string& id) {
   return client.Watch(id, [](const v1::JobEvent&) {});
 }
 
-rpc::ChannelOptions Channel(const LoomServer& server, const std::string& token) {
-  rpc::ChannelOptions channel;
-  channel.address = server.address();
-  channel.token = token;
-  return channel;
-}
-
-std::unique_ptr<v1::LoomService::Stub> RawStub(const LoomServer& server, const std::string& token) {
-  return v1::LoomService::NewStub(rpc::MakeChannel(Channel(server, token)));
-}
-
-grpc::Status RawSubmit(v1::LoomService::Stub& stub, const v1::SubmitJobRequest& request) {
-  grpc::ClientContext context;
-  v1::SubmitJobResponse response;
-  return stub.SubmitJob(&context, request, &response);
-}
-
-int JobCount(client::JobClient& client, v1::JobKind kind = v1::JOB_KIND_UNSPECIFIED) {
-  v1::ListJobsRequest request;
-  if (kind != v1::JOB_KIND_UNSPECIFIED) request.add_kinds(kind);
-  request.set_page_size(1000);
-  return client.List(request).jobs_size();
-}
-
 Image ReadImageBytes(const std::string& bytes, const std::string& name) {
   const auto path = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "-" + name);
   WriteFileAtomic(path, bytes);
@@ -547,18 +523,19 @@ TEST_F(ServiceTest, ACancelledJobThatCompletesAnywayEndsCancelledWithNothingCach
 
   // A worker (by hand) leases the job, the client cancels it, the worker completes it.
   auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(*server_, "")));
+  const std::string worker_id = RegisterWorker(*worker);
   v1::LeaseJobResponse leased;
   {
     grpc::ClientContext context;
     v1::LeaseJobRequest lease;
-    lease.set_worker_id("late-worker");
+    lease.set_worker_id(worker_id);
     lease.set_wait_ms(5000);
     ASSERT_TRUE(worker->LeaseJob(&context, lease, &leased).ok());
     ASSERT_EQ(leased.job().id(), id);
   }
   EXPECT_TRUE(client.Cancel(id).cancel_requested());
   v1::CompleteJobRequest complete;
-  complete.set_worker_id("late-worker");
+  complete.set_worker_id(worker_id);
   complete.set_job_id(id);
   complete.set_fencing_token(leased.fencing_token());
   for (const char* name : {"parameters.exr", "lut.exr", "manifest.json"}) {

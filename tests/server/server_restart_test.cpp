@@ -14,6 +14,7 @@
 
 #include "client/job_client.h"
 #include "rpc/channel.h"
+#include "tests/server/service_fixture.h"
 #include "tests/server/tiny_specs.h"
 
 extern char** environ;
@@ -90,7 +91,7 @@ TEST(ServerRestartTest, KilledWithJobsQueuedAndLeasedLosesNothing) {
     auto worker = v1::WorkerService::NewStub(rpc::MakeChannel(Channel(server.address())));
     grpc::ClientContext context;
     v1::LeaseJobRequest lease;
-    lease.set_worker_id("doomed-worker");
+    lease.set_worker_id(RegisterWorker(*worker));
     lease.set_wait_ms(5000);
     v1::LeaseJobResponse leased;
     ASSERT_TRUE(worker->LeaseJob(&context, lease, &leased).ok());

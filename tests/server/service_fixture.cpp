@@ -4,6 +4,8 @@
 
 #include <atomic>
 
+#include <grpcpp/client_context.h>
+
 #include "rpc/channel.h"
 
 namespace loom::server {
@@ -15,7 +17,7 @@ void ServiceTest::StartServer(ServerOptions options) {
   std::filesystem::remove_all(data_dir_);
   options.data_dir = data_dir_;
   options.listen = "127.0.0.1:0";
-  options.lease_seconds = 3;
+  if (options.lease_seconds == ServerOptions().lease_seconds) options.lease_seconds = 3;
   server_ = std::make_unique<LoomServer>(options);
 }
 
@@ -25,10 +27,43 @@ void ServiceTest::TearDown() {
 }
 
 client::JobClient ServiceTest::Client(const std::string& token) {
+  return client::JobClient(rpc::MakeChannel(Channel(*server_, token)));
+}
+
+rpc::ChannelOptions Channel(const LoomServer& server, const std::string& token) {
   rpc::ChannelOptions channel;
-  channel.address = server_->address();
+  channel.address = server.address();
   channel.token = token;
-  return client::JobClient(rpc::MakeChannel(channel));
+  return channel;
+}
+
+std::unique_ptr<v1::LoomService::Stub> RawStub(const LoomServer& server, const std::string& token) {
+  return v1::LoomService::NewStub(rpc::MakeChannel(Channel(server, token)));
+}
+
+std::unique_ptr<v1::WorkerService::Stub> RawWorkerStub(const LoomServer& server, const std::string& token) {
+  return v1::WorkerService::NewStub(rpc::MakeChannel(Channel(server, token)));
+}
+
+std::string RegisterWorker(v1::WorkerService::Stub& stub) {
+  grpc::ClientContext context;
+  v1::RegisterWorkerResponse response;
+  const grpc::Status status = stub.RegisterWorker(&context, v1::RegisterWorkerRequest(), &response);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  return response.worker_id();
+}
+
+grpc::Status RawSubmit(v1::LoomService::Stub& stub, const v1::SubmitJobRequest& request) {
+  grpc::ClientContext context;
+  v1::SubmitJobResponse response;
+  return stub.SubmitJob(&context, request, &response);
+}
+
+int JobCount(client::JobClient& client, v1::JobKind kind) {
+  v1::ListJobsRequest request;
+  if (kind != v1::JOB_KIND_UNSPECIFIED) request.add_kinds(kind);
+  request.set_page_size(1000);
+  return client.List(request).jobs_size();
 }
 
 }  // namespace loom::server

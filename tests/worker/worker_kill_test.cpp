@@ -48,7 +48,7 @@ int CountLines(const std::vector<std::string>& lines, const std::string& text) {
 TEST_F(ServiceTest, TwoHundredJobsTwoWorkersOneKilledEveryJobSucceedsOnce) {
   ServerOptions options;
   options.local_workers = 0;
-  options.lease_seconds = 2;  // the killed worker's job comes back within seconds
+  options.lease_seconds = 3;  // the killed worker's job comes back within seconds
   StartServer(options);
   client::JobClient client = Client();
   std::vector<std::string> ids;

@@ -135,9 +135,14 @@ TEST(SpecJson, UnknownFieldNamesItsPath) {
             "scene.objects[1].mesh.shape: unknown field");
 }
 
-// Disabled: protobuf 3.21 reports a top-level unknown field as "colour: Cannot find
-// field." (no "(path) " prefix), which DescribeParseError in spec_json.cpp does not
-// match yet; it comes out as "fabric: colour: Cannot find field.".
+TEST(SpecJson, BothMembersOfAOneofAreNamed) {
+  EXPECT_EQ(ParseError<v1::FabricSpec>(R"({"knit": {}, "woven": {}})", "fabric"),
+            "fabric: knit and woven are both set; give only one (oneof structure)");
+  EXPECT_EQ(ParseError<v1::SceneSpec>(R"({"objects": [{"fabric": {"fabric": {"woven": {}, "knit": {}}}}]})", "scene"),
+            "scene.objects[0].fabric.fabric: knit and woven are both set; give only one (oneof structure)");
+}
+
+// Protobuf reports a top-level unknown field without the "(path) " prefix.
 TEST(SpecJson, TopLevelUnknownFieldNamesItsPath) {
   EXPECT_EQ(ParseError<v1::FabricSpec>(R"({"colour": "red"})", "fabric"), "fabric.colour: unknown field");
 }

@@ -597,6 +597,34 @@ TEST_F(JobQueueTest, ListPagesNewestFirstWithFilters) {
   EXPECT_LOOM_ERROR(queue_->List({}, 2, "bogus"), ErrorCode::kInvalidArgument, "bogus");
 }
 
+// A page ends before its jobs pass max_bytes (ListJobs: a default client's 4 MiB
+// receive limit), and still holds one job that is larger on its own.
+TEST_F(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
+  constexpr uint64_t kCap = 100'000;
+  for (int i = 0; i < 10; ++i) {
+    v1::Job job = Render();
+    job.mutable_render()->mutable_scene()->set_name(std::string(30'000, 'a' + i));
+    queue_->Submit(job);
+  }
+  v1::Job huge = Render();
+  huge.mutable_render()->mutable_scene()->set_name(std::string(3 * kCap, 'z'));
+  queue_->Submit(huge);
+  std::vector<size_t> sizes;
+  std::string token;
+  int jobs = 0;
+  do {
+    const JobPage page = queue_->List({}, 1000, token, kCap);
+    uint64_t bytes = 0;
+    for (const v1::Job& job : page.jobs) bytes += job.ByteSizeLong();
+    if (page.jobs.size() > 1) EXPECT_LE(bytes, kCap);
+    sizes.push_back(page.jobs.size());
+    jobs += static_cast<int>(page.jobs.size());
+    token = page.next_page_token;
+  } while (!token.empty());
+  EXPECT_EQ(jobs, 11);
+  EXPECT_EQ(sizes, (std::vector<size_t>{1, 3, 3, 3, 1}));  // the huge one alone, newest first
+}
+
 TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
