@@ -58,6 +58,28 @@ v1::Job JobClient::Cancel(const std::string& job_id) {
   return Call<v1::CancelJobRequest, v1::Job>(*stub_, &v1::LoomService::Stub::CancelJob, request, "CancelJob");
 }
 
+v1::Job JobClient::SetPriority(const std::string& job_id, int32_t priority) {
+  v1::SetJobPriorityRequest request;
+  request.set_job_id(job_id);
+  request.set_priority(priority);
+  return Call<v1::SetJobPriorityRequest, v1::Job>(*stub_, &v1::LoomService::Stub::SetJobPriority, request,
+                                                  "SetJobPriority");
+}
+
+v1::RetryJobsResponse JobClient::Retry(const std::vector<std::string>& job_ids) {
+  v1::RetryJobsRequest request;
+  for (const std::string& id : job_ids) request.add_job_ids(id);
+  return Call<v1::RetryJobsRequest, v1::RetryJobsResponse>(*stub_, &v1::LoomService::Stub::RetryJobs, request,
+                                                           "RetryJobs");
+}
+
+v1::DeleteJobsResponse JobClient::Delete(const std::vector<std::string>& job_ids) {
+  v1::DeleteJobsRequest request;
+  for (const std::string& id : job_ids) request.add_job_ids(id);
+  return Call<v1::DeleteJobsRequest, v1::DeleteJobsResponse>(*stub_, &v1::LoomService::Stub::DeleteJobs, request,
+                                                             "DeleteJobs");
+}
+
 std::vector<std::string> JobClient::Log(const std::string& job_id) {
   v1::GetJobLogRequest request;
   request.set_job_id(job_id);

@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "loom/v1/service.grpc.pb.h"
 
@@ -23,6 +24,9 @@ class JobClient {
   v1::Job Get(const std::string& job_id);
   v1::ListJobsResponse List(const v1::ListJobsRequest& request);
   v1::Job Cancel(const std::string& job_id);
+  v1::Job SetPriority(const std::string& job_id, int32_t priority);
+  v1::RetryJobsResponse Retry(const std::vector<std::string>& job_ids);
+  v1::DeleteJobsResponse Delete(const std::vector<std::string>& job_ids);
   std::vector<std::string> Log(const std::string& job_id);
   // Follows a job, calling `on_event` for every event, until it ends; returns the
   // job as it ended.

@@ -1,4 +1,4 @@
-// loom fabric precompute | render | jobs list|show|watch|cancel|log
+// loom fabric precompute | render | jobs list|show|watch|cancel|log|priority|retry|rm
 
 #include <cstdio>
 #include <iostream>
@@ -144,7 +144,7 @@ ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
 }
 
 std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
-  auto* jobs = app.add_subcommand("jobs", "List, show, watch, cancel jobs and read their logs");
+  auto* jobs = app.add_subcommand("jobs", "List, show, watch, cancel, reprioritise, retry and delete jobs; read logs");
   std::vector<ClientCommand> commands;
 
   struct ListOptions {
@@ -221,6 +221,41 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
     } else {
       for (const std::string& line : lines) std::printf("%s\n", line.c_str());
     }
+    return 0;
+  });
+
+  struct PriorityOptions {
+    std::string job_id;
+    int32_t priority = 0;
+  };
+  auto priority = std::make_shared<PriorityOptions>();
+  auto* set_priority = jobs->add_subcommand("priority", "Change a queued or running job's priority (higher first)");
+  set_priority->add_option("job", priority->job_id, "Job id")->required();
+  set_priority->add_option("priority", priority->priority, "New priority")->required();
+  commands.push_back({set_priority, [&flags, priority] {
+                        const v1::Job job = flags.Connect().SetPriority(priority->job_id, priority->priority);
+                        if (flags.json) PrintJson(job);
+                        else PrintJobLine(job);
+                        return 0;
+                      }});
+
+  // retry, rm: any number of job ids.
+  auto job_ids = std::make_shared<std::vector<std::string>>();
+  auto add_many = [&](const char* name, const char* help, std::function<int()> run) {
+    auto* command = jobs->add_subcommand(name, help);
+    command->add_option("jobs", *job_ids, "Job ids")->required();
+    commands.push_back({command, std::move(run)});
+  };
+  add_many("retry", "Queue failed or cancelled jobs again (and the failed jobs they depend on)", [&flags, job_ids] {
+    const v1::RetryJobsResponse response = flags.Connect().Retry(*job_ids);
+    if (flags.json) PrintJson(response);
+    else for (const v1::Job& job : response.jobs()) PrintJobLine(job);
+    return 0;
+  });
+  add_many("rm", "Delete finished jobs, their logs and their frames", [&flags, job_ids] {
+    const v1::DeleteJobsResponse response = flags.Connect().Delete(*job_ids);
+    if (flags.json) PrintJson(response);
+    else std::printf("deleted %u job(s), %u frame(s)\n", response.deleted_jobs(), response.removed_frames());
     return 0;
   });
   return commands;

@@ -26,6 +26,21 @@ const std::string& RequireJobId(const std::string& id, const char* field = "job_
   return id;
 }
 
+// The job ids of RetryJobs / DeleteJobs: at least one, at most kMaxJobIdsPerCall,
+// none empty.
+std::vector<std::string> RequireJobIds(const google::protobuf::RepeatedPtrField<std::string>& ids) {
+  if (ids.empty()) throw Error(ErrorCode::kInvalidArgument, "job_ids: is empty");
+  if (ids.size() > kMaxJobIdsPerCall) {
+    throw Error(ErrorCode::kInvalidArgument, "job_ids: " + std::to_string(ids.size()) + " ids exceed " +
+                                                 std::to_string(kMaxJobIdsPerCall) + " per call");
+  }
+  std::vector<std::string> checked;
+  for (int i = 0; i < ids.size(); ++i) {
+    checked.push_back(RequireJobId(ids[i], ("job_ids[" + std::to_string(i) + "]").c_str()));
+  }
+  return checked;
+}
+
 }  // namespace
 
 v1::CachedFabric ToCachedFabric(const FabricEntry& entry) {
@@ -127,6 +142,70 @@ grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::Cance
   return Guard(*context, state_.client_token, "CancelJob", [&] {
     *response = state_.queue.Cancel(RequireJobId(request->job_id()));
     spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
+  });
+}
+
+grpc::Status JobService::SetJobPriority(grpc::ServerContext* context, const v1::SetJobPriorityRequest* request,
+                                        v1::Job* response) {
+  return Guard(*context, state_.client_token, "SetJobPriority", [&] {
+    *response = state_.queue.SetPriority(RequireJobId(request->job_id()), request->priority());
+    spdlog::info("job {}: priority {}", response->id(), response->priority());
+  });
+}
+
+grpc::Status JobService::RetryJobs(grpc::ServerContext* context, const v1::RetryJobsRequest* request,
+                                   v1::RetryJobsResponse* response) {
+  return Guard(*context, state_.client_token, "RetryJobs", [&] {
+    if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
+    const std::vector<std::string> ids = RequireJobIds(request->job_ids());
+    // A render's meshes were released when it ended: they must still be here, and
+    // are held again until it ends (server/job_submission.h).
+    std::vector<std::string> pinned;
+    try {
+      for (const std::string& id : ids) {
+        const v1::Job job = state_.queue.Get(id);
+        if (!job.has_render()) continue;
+        for (const v1::SceneObject& object : job.render().scene().objects()) {
+          if (object.mesh().source_case() != v1::MeshRef::kArtifact) continue;
+          if (!state_.artifacts.Has(object.mesh().artifact())) {
+            throw Error(ErrorCode::kFailedPrecondition, "job " + id + ": mesh artifact " + object.mesh().artifact() +
+                                                            " is no longer on the server; submit the render again");
+          }
+          state_.artifacts.Pin(object.mesh().artifact(), JobPinOwner(id));
+        }
+        pinned.push_back(id);
+      }
+      for (v1::Job& job : state_.queue.Retry(ids)) *response->add_jobs() = std::move(job);
+    } catch (...) {
+      for (const std::string& id : pinned) state_.artifacts.UnpinAll(JobPinOwner(id));
+      throw;
+    }
+    spdlog::info("{} job(s) retried", response->jobs_size());
+  });
+}
+
+grpc::Status JobService::DeleteJobs(grpc::ServerContext* context, const v1::DeleteJobsRequest* request,
+                                    v1::DeleteJobsResponse* response) {
+  return Guard(*context, state_.client_token, "DeleteJobs", [&] {
+    uint32_t removed = 0;
+    const std::vector<v1::Job> deleted = state_.queue.Delete(RequireJobIds(request->job_ids()));
+    for (const v1::Job& job : deleted) {
+      state_.artifacts.UnpinAll(JobPinOwner(job.id()));
+      if (job.kind() != v1::JOB_KIND_RENDER) continue;  // a precompute's results are the cache's
+      state_.artifacts.UnpinAll(JobResultPinOwner(job.id()));
+      for (const std::string& hash : job.result_artifacts()) {
+        try {
+          state_.artifacts.Remove(hash);
+          ++removed;
+        } catch (const Error& error) {
+          // Pinned by another job's result (the same frame), or gone already.
+          if (error.code() != ErrorCode::kFailedPrecondition && error.code() != ErrorCode::kNotFound) throw;
+        }
+      }
+    }
+    response->set_deleted_jobs(static_cast<uint32_t>(deleted.size()));
+    response->set_removed_frames(removed);
+    spdlog::info("{} job(s) deleted, {} frame(s) removed", deleted.size(), removed);
   });
 }
 

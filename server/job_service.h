@@ -16,6 +16,8 @@ inline constexpr int kMaxFindMissingHashes = 10'000;
 // ListJobs stops a page before its jobs pass this many bytes (a default client
 // receives at most 4 MiB); a single larger job still comes alone.
 inline constexpr uint64_t kMaxListReplyBytes = uint64_t{3} << 20;
+// Job ids one RetryJobs or DeleteJobs takes.
+inline constexpr int kMaxJobIdsPerCall = 1000;
 
 class JobService final : public v1::LoomService::Service {
  public:
@@ -30,6 +32,12 @@ class JobService final : public v1::LoomService::Service {
                         grpc::ServerWriter<v1::JobEvent>* writer) override;
   grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
                          v1::Job* response) override;
+  grpc::Status SetJobPriority(grpc::ServerContext* context, const v1::SetJobPriorityRequest* request,
+                              v1::Job* response) override;
+  grpc::Status RetryJobs(grpc::ServerContext* context, const v1::RetryJobsRequest* request,
+                         v1::RetryJobsResponse* response) override;
+  grpc::Status DeleteJobs(grpc::ServerContext* context, const v1::DeleteJobsRequest* request,
+                          v1::DeleteJobsResponse* response) override;
   grpc::Status GetJobLog(grpc::ServerContext* context, const v1::GetJobLogRequest* request,
                          v1::GetJobLogResponse* response) override;
 

@@ -40,6 +40,8 @@ struct ServerOptions {
   // ends (server/service_state.h); 0: not at all.
   double result_retention_seconds = 86'400;
   uint32_t max_attempts = 3;
+  // A worker that failed a job this many times is never given it again.
+  uint32_t blocklist_after = 3;
   double lease_seconds = 30;
   double stuck_seconds = 600;
   // Render submissions parsing their meshes at once (server/parse_slots.h).

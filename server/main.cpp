@@ -50,6 +50,11 @@ int Main(int argc, char** argv) {
                  "live worker can take it; bad input fails at once; a SIGTERM hand-back uses none)")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  app.add_option("--blocklist-after", options.blocklist_after,
+                 "A worker that failed a job this many times (or let its lease expire) is never given it again; "
+                 "`loom jobs retry` clears the job's blocklist")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   app.add_option("--lease-seconds", options.lease_seconds,
                  "A worker's lease lasts this long after each heartbeat; then the job is requeued")
       ->check(CLI::PositiveNumber)

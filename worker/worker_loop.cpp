@@ -22,6 +22,8 @@ constexpr std::chrono::milliseconds kFirstBackoff = 100ms;
 constexpr std::chrono::milliseconds kMaxBackoff = 5000ms;
 // Fitted fabrics kept between render jobs (a worker often renders one fabric many times).
 constexpr size_t kKeptFits = 4;
+// Moved progress reaches the server within this (issue 22: WatchJob shows it live).
+constexpr std::chrono::milliseconds kProgressPeriod = 1000ms;
 
 // Why a job stops before it is done.
 enum class Interruption { kNone, kCancelled, kLeaseLost, kStopping };
@@ -100,20 +102,38 @@ class WorkerLoop::Lease {
 
  private:
   // Records progress for the next heartbeat and marks the worker alive; returns
-  // why the job must stop, if it must.
+  // why the job must stop, if it must. A new stage wakes the heartbeat thread at
+  // once, moved progress within a second (HeartbeatLoop).
   Interruption Record(double fraction, std::string_view stage) {
     // The stage's name, not its counter: the alive state changes a few times a job.
     loop_.MarkAlive("job " + job_id_ + ": " + std::string(StageName(stage)));
     std::lock_guard lock(mu_);
-    if (StageName(stage) != StageName(progress_.stage())) log_.push_back(std::string(StageName(stage)));
+    const bool new_stage = StageName(stage) != StageName(progress_.stage());
+    if (new_stage) log_.push_back(std::string(StageName(stage)));
+    const bool moved = fraction != progress_.fraction() || stage != progress_.stage();
     progress_.set_fraction(fraction);
     progress_.set_stage(std::string(stage));
+    if (new_stage || (moved && !moved_)) wake_.notify_all();
+    urgent_ = urgent_ || new_stage;
+    moved_ = moved_ || moved;
     return interruption_;
   }
 
+  // Heartbeats carry progress to the server (and so to WatchJob): at once when the
+  // lease begins and when a stage begins, within kProgressPeriod when the progress
+  // moved, and every heartbeat interval regardless, which keeps the lease.
   void HeartbeatLoop() {
+    using Clock = std::chrono::steady_clock;
     std::unique_lock lock(mu_);
-    while (!wake_.wait_for(lock, loop_.heartbeat_interval_, [this] { return done_; })) {
+    Clock::time_point last_sent = Clock::now();
+    while (!done_) {
+      const auto period = moved_ ? std::min(kProgressPeriod, loop_.heartbeat_interval_) : loop_.heartbeat_interval_;
+      if (!urgent_ && Clock::now() < last_sent + period) {
+        wake_.wait_until(lock, last_sent + period);  // or woken by Record or the end
+        continue;
+      }
+      urgent_ = moved_ = false;
+      last_sent = Clock::now();
       v1::HeartbeatRequest request;
       request.set_worker_id(loop_.worker_id_);
       request.set_job_id(job_id_);
@@ -146,6 +166,8 @@ class WorkerLoop::Lease {
   std::mutex mu_;
   std::condition_variable wake_;
   bool done_ = false;
+  bool urgent_ = true;   // send at once: the lease began, or a stage did
+  bool moved_ = false;   // the progress moved since the last heartbeat
   v1::JobProgress progress_;
   std::vector<std::string> log_;
   Interruption interruption_ = Interruption::kNone;

@@ -88,18 +88,22 @@ constexpr uint64_t BitsOf(double x) { return std::bit_cast<uint64_t>(x); }
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void LobePowers(const double* dots, size_t count,
                                                                              double exponent, double min_argument,
                                                                              double* logs, double* values) {
-  auto group = [&](const Vec& dot) {
+  // Outputs by reference: a returned 32-byte vector would change the ABI of the
+  // default (non-AVX) clone, which clang refuses.
+  auto group = [&](const Vec& dot, Vec& log_out, Vec& value_out) {
     const Mask on = dot > min_argument;
     // Off lanes run the arithmetic on min_argument and are discarded.
     const Vec log_dot = Log(Select(on, dot, Splat(min_argument)));
     const Vec value = Exp(exponent * log_dot);
-    return std::pair{Select(on, log_dot, Splat(0.0)), Select(on, value, Splat(0.0))};
+    log_out = Select(on, log_dot, Splat(0.0));
+    value_out = Select(on, value, Splat(0.0));
   };
   size_t begin = 0;
+  Vec log_out, value_out;
   for (; begin + kLanes <= count; begin += kLanes) {
     Vec dot;
     std::memcpy(&dot, dots + begin, sizeof dot);
-    const auto [log_out, value_out] = group(dot);
+    group(dot, log_out, value_out);
     std::memcpy(logs + begin, &log_out, sizeof log_out);
     std::memcpy(values + begin, &value_out, sizeof value_out);
   }
@@ -107,7 +111,7 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void LobePowers(cons
     const size_t n = count - begin;
     Vec dot = Splat(min_argument);
     std::memcpy(&dot, dots + begin, n * sizeof(double));
-    const auto [log_out, value_out] = group(dot);
+    group(dot, log_out, value_out);
     std::memcpy(logs + begin, &log_out, n * sizeof(double));
     std::memcpy(values + begin, &value_out, n * sizeof(double));
   }

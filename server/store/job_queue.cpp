@@ -58,6 +58,7 @@ CREATE INDEX IF NOT EXISTS job_deps_by_dep ON job_deps(dep_seq);
 CREATE TABLE IF NOT EXISTS job_failed_workers (
   job_seq INTEGER NOT NULL REFERENCES jobs(seq),
   worker_id TEXT NOT NULL,
+  failures INTEGER NOT NULL DEFAULT 1,    -- blocklisted from the job at blocklist_after
   PRIMARY KEY (job_seq, worker_id));
 CREATE TABLE IF NOT EXISTS job_log (
   job_seq INTEGER NOT NULL REFERENCES jobs(seq),
@@ -228,17 +229,19 @@ class JobQueue::Txn {
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
   if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
+      options_.blocklist_after == 0 ||
       options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0 ||
       options_.log_keep_bytes < static_cast<int64_t>(kMaxLogLineBytes)) {
     throw Error(ErrorCode::kInvalidArgument,
                 "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100], "
-                "log_keep_bytes at least 4096");
+                "blocklist_after at least 1, log_keep_bytes at least 4096");
   }
   db_->Exec(kSchema);
   // Live workers, in memory only (TEMP): a restarted server learns them again as
   // they register and lease.
   db_->Exec("CREATE TEMP TABLE live_workers (worker_id TEXT PRIMARY KEY, seen_ms INTEGER NOT NULL)");
   AddColumnIfMissing(*db_, "jobs", "run_ms", "REAL NOT NULL DEFAULT 0");
+  AddColumnIfMissing(*db_, "job_failed_workers", "failures", "INTEGER NOT NULL DEFAULT 1");
   {
     auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
     max_version.Step();
@@ -313,6 +316,12 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   job.set_fabric_key(row.fabric_key);
   job.set_worker_id(row.worker_id);
   job.set_cancel_requested(row.cancel_requested);
+  for (auto blocked = db_->Query("SELECT worker_id FROM job_failed_workers WHERE job_seq = ? AND failures >= ? "
+                                 "ORDER BY worker_id",
+                                 row.seq, options_.blocklist_after);
+       blocked.Step();) {
+    job.add_blocklisted_workers(blocked.Text(0));
+  }
   return job;
 }
 
@@ -408,6 +417,20 @@ void JobQueue::EndAttempt(const Row& row, const std::string& error, int64_t now_
   }
 }
 
+void JobQueue::NoteWorkerFailureLocked(const Row& row) {
+  db_->Run(
+      "INSERT INTO job_failed_workers (job_seq, worker_id, failures) VALUES (?, ?, 1) "
+      "ON CONFLICT (job_seq, worker_id) DO UPDATE SET failures = failures + 1",
+      row.seq, row.worker_id);
+  auto count = db_->Query("SELECT failures FROM job_failed_workers WHERE job_seq = ? AND worker_id = ?", row.seq,
+                          row.worker_id);
+  count.Step();
+  if (count.Int(0) == options_.blocklist_after) {
+    WriteLog(row.seq, "[queue] worker " + row.worker_id + " is blocklisted for this job after " +
+                          std::to_string(count.Int(0)) + " failure(s); it is not given the job again");
+  }
+}
+
 void JobQueue::Finish(const Row& row, JobState state, const std::string& error, int64_t now_ms) {
   db_->Run(
       "UPDATE jobs SET state = ?, error = ?, finished_ms = ?, worker_id = '', lease_token = 0, "
@@ -478,7 +501,7 @@ v1::Job JobQueue::SubmitDone(const v1::Job& job, const std::vector<std::string>&
   const int64_t now = clock_.NowMs();
   const v1::Job inserted = InsertJob(job, now);
   const Row row = RequireRow(inserted.id());
-  db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, started_ms = ? WHERE seq = ?",
+  db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, progress_stage = 'done', started_ms = ? WHERE seq = ?",
            JoinLines(result_artifacts), now, row.seq);
   WriteLog(row.seq, "[queue] " + note);
   Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
@@ -523,13 +546,16 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
       "                WHERE d.job_seq = j.seq AND p.state != ?2) "
       // Not a job this worker failed, unless no other live worker that has not
       // failed it could take it.
+      // Never a job this worker is blocklisted from.
+      "AND NOT EXISTS (SELECT 1 FROM job_failed_workers b WHERE b.job_seq = j.seq AND b.worker_id = ?3 "
+      "                AND b.failures >= ?5) "
       "AND NOT (EXISTS (SELECT 1 FROM job_failed_workers f WHERE f.job_seq = j.seq AND f.worker_id = ?3) "
       "         AND EXISTS (SELECT 1 FROM temp.live_workers l WHERE l.worker_id != ?3 AND l.seen_ms > ?4 "
       "                     AND l.worker_id NOT IN (SELECT worker_id FROM job_failed_workers g "
       "                                             WHERE g.job_seq = j.seq))) "
       "ORDER BY priority DESC, seq LIMIT 1",
       static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED), worker_id,
-      clock_.NowMs() - options_.lease_duration_ms);
+      clock_.NowMs() - options_.lease_duration_ms, options_.blocklist_after);
   NoteWorkerLocked(worker_id, clock_.NowMs());
   if (!next.Step()) return std::nullopt;
   const int64_t seq = next.Int(0);
@@ -624,7 +650,7 @@ v1::Job JobQueue::Complete(const std::string& id, uint64_t token, const std::vec
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request (the finished results were discarded)", now);
   } else {
-    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, run_ms = ? WHERE seq = ?",
+    db_->Run("UPDATE jobs SET results = ?, progress_fraction = 1, progress_stage = 'done', run_ms = ? WHERE seq = ?",
              JoinLines(result_artifacts), run_ms, row.seq);
     Finish(row, v1::JOB_STATE_SUCCEEDED, "", now);
   }
@@ -638,7 +664,7 @@ v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string&
   const Row row = RequireLease(id, token);
   const int64_t now = clock_.NowMs();
   NoteWorkerLocked(row.worker_id, now);
-  db_->Run("INSERT OR IGNORE INTO job_failed_workers (job_seq, worker_id) VALUES (?, ?)", row.seq, row.worker_id);
+  NoteWorkerFailureLocked(row);
   const std::string message =
       (error.empty() ? "worker reported a failure without a message" : error) + " (worker " + row.worker_id + ")";
   if (failure == Failure::kPermanent && !row.cancel_requested) {
@@ -691,6 +717,7 @@ int JobQueue::RequeueExpired() {
             ? "lease expired: worker " + row.worker_id + " sent no heartbeat for " +
                   Seconds(now - row.lease_deadline_ms + options_.lease_duration_ms)
             : "stuck: no progress for " + Seconds(now - row.progress_moved_ms) + " on worker " + row.worker_id;
+    NoteWorkerFailureLocked(row);
     EndAttempt(row, reason, now);
   }
   txn.Commit();
@@ -714,6 +741,104 @@ v1::Job JobQueue::Cancel(const std::string& id) {
   v1::Job job = ToJob(RequireRow(id));
   txn.Commit();
   return job;
+}
+
+v1::Job JobQueue::SetPriority(const std::string& id, int32_t priority) {
+  Txn txn(*this);
+  const Row row = RequireRow(id);
+  if (IsTerminal(row.state)) {
+    throw Error(ErrorCode::kFailedPrecondition, "job " + id + " is already " + StateName(row.state));
+  }
+  if (row.priority != priority) {
+    db_->Run("UPDATE jobs SET priority = ? WHERE seq = ?", priority, row.seq);
+    WriteLog(row.seq, "[queue] priority " + std::to_string(row.priority) + " -> " + std::to_string(priority));
+  }
+  v1::Job job = ToJob(RequireRow(id));
+  txn.Commit();
+  return job;
+}
+
+void JobQueue::RetryLocked(const Row& row, std::vector<int64_t>& retried) {
+  for (auto deps = db_->Query("SELECT dep_seq FROM job_deps WHERE job_seq = ?", row.seq); deps.Step();) {
+    const Row dep = RequireRow(JobId(deps.Int(0)));
+    if (dep.state == v1::JOB_STATE_FAILED || dep.state == v1::JOB_STATE_CANCELLED) {
+      RetryLocked(dep, retried);
+      retried.push_back(dep.seq);
+    }
+  }
+  db_->Run(
+      "UPDATE jobs SET state = ?, attempts = 0, error = '', cancel_requested = 0, worker_id = '', lease_token = 0, "
+      "lease_deadline_ms = 0, started_ms = 0, finished_ms = 0, progress_fraction = 0, progress_stage = '', "
+      "results = '', run_ms = 0 WHERE seq = ?",
+      static_cast<int>(v1::JOB_STATE_QUEUED), row.seq);
+  db_->Run("DELETE FROM job_failed_workers WHERE job_seq = ?", row.seq);
+  WriteLog(row.seq, "[queue] retried by request (was " + StateName(row.state) +
+                        "); attempts and blocklist reset");
+}
+
+std::vector<v1::Job> JobQueue::Retry(const std::vector<std::string>& ids) {
+  Txn txn(*this);
+  std::vector<Row> rows;
+  for (const std::string& id : ids) {
+    Row row = RequireRow(id);
+    if (row.state != v1::JOB_STATE_FAILED && row.state != v1::JOB_STATE_CANCELLED) {
+      throw Error(ErrorCode::kFailedPrecondition,
+                  "job " + id + " is " + StateName(row.state) + ": only FAILED or CANCELLED jobs are retried");
+    }
+    rows.push_back(std::move(row));
+  }
+  std::vector<int64_t> dependencies;
+  std::vector<int64_t> asked;
+  for (const Row& row : rows) {
+    if (std::find(asked.begin(), asked.end(), row.seq) != asked.end()) continue;
+    // A job asked for may already have been retried as another's dependency.
+    if (std::find(dependencies.begin(), dependencies.end(), row.seq) == dependencies.end()) {
+      RetryLocked(RequireRow(row.id()), dependencies);
+    }
+    asked.push_back(row.seq);
+  }
+  std::vector<v1::Job> jobs;
+  for (const int64_t seq : asked) jobs.push_back(ToJob(RequireRow(JobId(seq))));
+  for (const int64_t seq : dependencies) {
+    if (std::find(asked.begin(), asked.end(), seq) == asked.end()) jobs.push_back(ToJob(RequireRow(JobId(seq))));
+  }
+  txn.Commit();
+  return jobs;
+}
+
+std::vector<v1::Job> JobQueue::Delete(const std::vector<std::string>& ids) {
+  Txn txn(*this);
+  std::vector<v1::Job> deleted;
+  for (const std::string& id : ids) {
+    const Row row = RequireRow(id);
+    if (!IsTerminal(row.state)) {
+      throw Error(ErrorCode::kFailedPrecondition,
+                  "job " + id + " is " + StateName(row.state) + ": only finished jobs are deleted (cancel it first)");
+    }
+    auto waiting = db_->Query(
+        "SELECT j.seq FROM job_deps d JOIN jobs j ON j.seq = d.job_seq WHERE d.dep_seq = ? AND j.state IN (?, ?, ?) "
+        "LIMIT 1",
+        row.seq, static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_LEASED),
+        static_cast<int>(v1::JOB_STATE_RUNNING));
+    if (waiting.Step()) {
+      throw Error(ErrorCode::kFailedPrecondition,
+                  "job " + id + ": unfinished job " + JobId(waiting.Int(0)) + " depends on it");
+    }
+    if (std::none_of(deleted.begin(), deleted.end(), [&](const v1::Job& job) { return job.id() == id; })) {
+      deleted.push_back(ToJob(row));
+    }
+  }
+  for (const v1::Job& job : deleted) {
+    const int64_t seq = *ParseJobId(job.id());
+    db_->Run("DELETE FROM job_log WHERE job_seq = ?", seq);
+    db_->Run("DELETE FROM job_failed_workers WHERE job_seq = ?", seq);
+    db_->Run("DELETE FROM job_deps WHERE job_seq = ?1 OR dep_seq = ?1", seq);
+    db_->Run("DELETE FROM leases WHERE job_seq = ?", seq);  // tokens still only grow (AUTOINCREMENT)
+    db_->Run("DELETE FROM jobs WHERE seq = ?", seq);
+  }
+  ++version_;
+  txn.Commit();
+  return deleted;
 }
 
 v1::Job JobQueue::Get(const std::string& id) const {

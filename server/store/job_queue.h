@@ -10,7 +10,9 @@
 //   all SUCCEEDED. A worker that failed a job is not given it again while another
 //   live worker (seen within the lease duration: leasing, heartbeating, reporting or
 //   just registered) that has not failed it exists; when there is none, the job goes
-//   back to a worker that failed it, so a farm of one still uses every attempt. Each lease
+//   back to a worker that failed it, so a farm of one still uses every attempt,
+//   unless that worker failed it blocklist_after times: then never (the job waits
+//   for another worker, or a Retry, which clears its blocklist). Each lease
 //   carries a fencing token, unique and increasing across the queue's lifetime:
 //   Heartbeat, Complete, Fail and CheckLease must present the current one, so a
 //   worker whose lease expired (or was voided by a server restart) can never report
@@ -62,6 +64,9 @@ struct JobQueueOptions {
   int64_t stuck_after_ms = 10 * 60'000;
   // Used when a submitted job leaves max_attempts at 0.
   uint32_t default_max_attempts = 3;
+  // A worker that failed a job this many times (Fail, or a lease that expired or
+  // stuck) is never given it again: the job's blocklist (>= 1).
+  uint32_t blocklist_after = 3;
   // A job's log keeps its first and its last this many bytes (at least 4096); the
   // lines between are dropped, and Log shows a "… truncated …" line in their
   // place. A chatty or looping worker cannot fill the disk. One line is cut at
@@ -163,7 +168,8 @@ class JobQueue {
 
   // Ends the lease successfully with the job's result artifact hashes (64 lowercase
   // hex digits each, else kInvalidArgument) and the worker's own time in the work
-  // (timings.run_ms; >= 0, else kInvalidArgument). Returns the job as it ended:
+  // (timings.run_ms; >= 0, else kInvalidArgument); its progress reads 1, "done".
+  // Returns the job as it ended:
   // SUCCEEDED, or CANCELLED if a cancel was requested meanwhile. Stale token:
   // kFailedPrecondition, nothing changes.
   v1::Job Complete(const std::string& id, uint64_t token, const std::vector<std::string>& result_artifacts,
@@ -199,6 +205,21 @@ class JobQueue {
   // QUEUED: CANCELLED now. LEASED/RUNNING: cancel requested (see above).
   // Already finished: kFailedPrecondition. Unknown: kNotFound. Returns the job.
   v1::Job Cancel(const std::string& id);
+
+  // A job not yet finished gets `priority` (a leased one keeps running); finished:
+  // kFailedPrecondition. Returns the job.
+  v1::Job SetPriority(const std::string& id, int32_t priority);
+
+  // FAILED or CANCELLED jobs QUEUED again, all or none (anything else:
+  // kFailedPrecondition naming it): attempts, error, progress, results and the
+  // blocklist reset. Every FAILED or CANCELLED job they depend on, transitively, is
+  // retried with them. Returns the jobs of `ids`, then those dependencies.
+  std::vector<v1::Job> Retry(const std::vector<std::string>& ids);
+
+  // Deletes finished jobs, all or none, with their logs; a job that an unfinished
+  // job depends on is kFailedPrecondition. Returns the jobs as they were (their
+  // results are the caller's to release).
+  std::vector<v1::Job> Delete(const std::vector<std::string>& ids);
 
   // Unknown id: kNotFound.
   v1::Job Get(const std::string& id) const;
@@ -265,6 +286,11 @@ class JobQueue {
   std::optional<JobLease> LeaseLocked(const std::string& worker_id);
   void NoteWorkerLocked(const std::string& worker_id, int64_t now_ms);
   void EndAttempt(const Row& row, const std::string& error, int64_t now_ms);
+  // Counts a failure of `row`'s job against the worker holding its lease.
+  void NoteWorkerFailureLocked(const Row& row);
+  // Retry's reset of one job and, first, of its failed dependencies; appends the
+  // dependencies it retried to `retried`.
+  void RetryLocked(const Row& row, std::vector<int64_t>& retried);
   void Finish(const Row& row, v1::JobState state, const std::string& error, int64_t now_ms);
   // Ends every unfinished job depending on `dependency_seq` FAILED with `error`, transitively.
   void FailDependants(int64_t dependency_seq, const std::string& error, int64_t now_ms);

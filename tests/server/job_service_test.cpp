@@ -202,6 +202,30 @@ TEST_F(AliveServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
       << ::testing::PrintToString(alive->states);
 }
 
+// Progress reaches WatchJob at every stage, not only with the lease's heartbeats
+// (a third of the lease: 10 s here, longer than the whole precompute), and the last
+// event says done (issue 22).
+TEST_F(ServiceTest, ProgressReachesWatchersAtEveryStageWithoutWaitingForHeartbeats) {
+  ServerOptions options;
+  options.lease_seconds = 30;
+  StartServer(options);
+  client::JobClient client = Client();
+  const std::string id = client.Submit(PrecomputeRequest()).job().id();
+  std::set<std::string> running_stages;
+  v1::JobEvent last;
+  client.Watch(id, [&](const v1::JobEvent& event) {
+    if (event.job().state() == v1::JOB_STATE_RUNNING) {
+      running_stages.insert(event.job().progress().stage().substr(0, event.job().progress().stage().find(':')));
+    }
+    last = event;
+  });
+  EXPECT_EQ(last.job().state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_TRUE(running_stages.contains("acquisition")) << ::testing::PrintToString(running_stages);
+  EXPECT_TRUE(running_stages.contains("fit")) << ::testing::PrintToString(running_stages);
+  EXPECT_EQ(last.job().progress().stage(), "done");
+  EXPECT_EQ(last.job().progress().fraction(), 1.0);
+}
+
 TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) {
   StartServer();
   client::JobClient client = Client();
