@@ -32,6 +32,7 @@ void PrintJob(const v1::Job& job) {
   if (!job.fabric_key().empty()) std::printf("  fabric key: %s\n", job.fabric_key().c_str());
   for (const std::string& id : job.depends_on()) std::printf("  depends on: %s\n", id.c_str());
   for (const std::string& hash : job.result_artifacts()) std::printf("  result: %s\n", hash.c_str());
+  for (const std::string& worker : job.blocklisted_workers()) std::printf("  blocklisted worker: %s\n", worker.c_str());
   if (!job.worker_id().empty()) std::printf("  worker: %s\n", job.worker_id().c_str());
   if (!job.error().empty()) std::printf("  error: %s\n", job.error().c_str());
 }

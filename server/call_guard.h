@@ -2,8 +2,10 @@
 // The frame of every RPC handler: the bearer-token check first (UNAUTHENTICATED,
 // nothing else done), then the body, whose loom::Error becomes the status of the
 // same meaning (rpc/status.h) and any other exception INTERNAL. Every handler of
-// both services is one Guard call, so none can skip the check.
+// both services is one Guard call, so none can skip the check. Refusals are logged
+// at a bounded rate (server/refusal_log.h).
 
+#include <fmt/format.h>
 #include <grpcpp/server_context.h>
 #include <spdlog/spdlog.h>
 
@@ -14,20 +16,16 @@
 #include "core/util/error.h"
 #include "rpc/auth.h"
 #include "rpc/status.h"
+#include "server/refusal_log.h"
 
 namespace loom::server {
-
-// Logs a refused call (a missing or wrong token), at most one warning a second
-// however many arrive: a client without the token cannot flood the log. A warning
-// says how many refusals went unlogged since the last.
-void WarnRefused(std::string_view call, const std::string& peer);
 
 // `token` empty: the server runs without tokens (loopback only).
 template <typename Body>
 grpc::Status Guard(const grpc::ServerContext& context, const std::string& token, std::string_view call,
                    Body&& body) {
   if (!token.empty() && !rpc::HasBearerToken(context, token)) {
-    WarnRefused(call, context.peer());
+    WarnRefused(fmt::format("{} from {}: missing or wrong bearer token", call, context.peer()));
     return {grpc::StatusCode::UNAUTHENTICATED, "missing or wrong bearer token"};
   }
   try {

@@ -11,6 +11,7 @@
 #include "core/util/file_io.h"
 #include "rpc/channel.h"
 #include "server/job_service.h"
+#include "server/refusal_log.h"
 #include "server/worker_service.h"
 
 namespace loom::server {
@@ -82,6 +83,7 @@ struct LoomServer::Store {
 };
 
 LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
+  RouteProtobufLogs();
   CheckOptions(options_);
   std::filesystem::create_directories(options_.data_dir);
   store_ = std::make_unique<Store>(options_);

@@ -95,5 +95,50 @@ TEST_F(LoomCliTest, RenderUploadsTheObjMeshAndWritesTheFrame) {
   EXPECT_EQ(again.output.find("uploaded"), std::string::npos) << again.output;
 }
 
+// The failure policy users of render farms expect (issue 22): change a job's
+// priority, retry what failed or was cancelled, delete finished jobs and frames.
+TEST_F(LoomCliTest, JobsCanBeReprioritisedRetriedAndDeleted) {
+  ServerOptions options;
+  options.local_workers = 0;  // jobs stay where the test puts them
+  StartServer(options);
+  const auto fabric = Write("fabric.json", R"({"knit": {}})");
+  const auto settings = Write("settings.json", SpecToJson(TinySettings()));
+  const CliRun submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
+                                " --no-wait");
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
+  const std::string id = nlohmann::json::parse(submitted.output)["job"]["id"];
+
+  CliRun run = Loom("--json jobs priority " + id + " 7");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(nlohmann::json::parse(run.output)["priority"], 7);
+  EXPECT_EQ(Loom("jobs retry " + id).exit_code, 5);  // queued: nothing to retry
+  EXPECT_EQ(Loom("jobs rm " + id).exit_code, 5);     // not finished
+  ASSERT_EQ(Loom("jobs cancel " + id).exit_code, 0);
+  run = Loom("--json jobs retry " + id);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(nlohmann::json::parse(run.output)["jobs"][0]["state"], "JOB_STATE_QUEUED");
+  ASSERT_EQ(Loom("jobs cancel " + id).exit_code, 0);
+  run = Loom("jobs rm " + id);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("deleted 1 job(s)"), std::string::npos) << run.output;
+  EXPECT_EQ(Loom("jobs show " + id).exit_code, 3);
+}
+
+TEST_F(LoomCliTest, ATokenFileAuthenticatesAndSpecChecksNameTheFile) {
+  ServerOptions options;
+  options.local_workers = 0;
+  options.client_token = "client-secret";
+  options.worker_token = "worker-secret";
+  StartServer(options);
+  const auto token = Write("token", "client-secret\n");
+  EXPECT_EQ(Loom("server-info").exit_code, 5);
+  const CliRun run = Loom("--token-file " + token.string() + " server-info");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const auto bad = Write("bad.json", R"({"knit": {"wales": 99}})");
+  const CliRun check = Loom("spec check fabric " + bad.string());
+  EXPECT_EQ(check.exit_code, 2) << check.output;
+  EXPECT_EQ(check.output.rfind(bad.string() + ": fabric.knit.wales: ", 0), 0u) << check.output;
+}
+
 }  // namespace
 }  // namespace loom::server

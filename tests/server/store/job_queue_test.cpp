@@ -316,6 +316,111 @@ TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
   EXPECT_EQ(failed.error(), "transient 3 (worker w2)");
 }
 
+// The per-job blocklist (issue 22): a worker that failed a job blocklist_after
+// times never gets it again, not even as the only worker; a retry clears it.
+TEST_F(JobQueueTest, AWorkerIsBlocklistedFromAJobAfterItsFailuresUntilARetry) {
+  JobQueueOptions options;
+  options.blocklist_after = 2;
+  Reopen(options);
+  auto job = Render();
+  job.set_max_attempts(10);
+  const auto id = queue_->Submit(job).id();
+  queue_->Fail(id, MustLease("w1").token, "driver crash");
+  queue_->Fail(id, MustLease("w1").token, "driver crash");  // the only live worker: it may try again
+  EXPECT_FALSE(queue_->Lease("w1").has_value());            // blocklisted now, alone or not
+  const v1::Job waiting = queue_->Get(id);
+  EXPECT_EQ(waiting.state(), v1::JOB_STATE_QUEUED);
+  ASSERT_EQ(waiting.blocklisted_workers_size(), 1);
+  EXPECT_EQ(waiting.blocklisted_workers(0), "w1");
+  const std::vector<std::string> log = queue_->Log(id, 0);
+  EXPECT_EQ(std::count_if(log.begin(), log.end(),
+                          [](const std::string& line) { return line.find("w1 is blocklisted") != std::string::npos; }),
+            1);
+  // Another worker takes it; a lease that expires counts as its failure too.
+  MustLease("w2");
+  clock_.Advance(30'001);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  MustLease("w2");
+  clock_.Advance(30'001);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);
+  EXPECT_FALSE(queue_->Lease("w2").has_value());
+  EXPECT_EQ(queue_->Get(id).blocklisted_workers_size(), 2);
+  // A cancel and a retry: attempts and the blocklist start again.
+  queue_->Cancel(id);
+  const std::vector<v1::Job> retried = queue_->Retry({id});
+  ASSERT_EQ(retried.size(), 1u);
+  EXPECT_EQ(retried[0].state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(retried[0].attempts(), 0u);
+  EXPECT_EQ(retried[0].blocklisted_workers_size(), 0);
+  EXPECT_EQ(MustLease("w1").job.id(), id);
+}
+
+TEST_F(JobQueueTest, RetryQueuesFailedJobsAndTheFailedJobsTheyDependOn) {
+  auto failing = Render();
+  failing.set_max_attempts(1);
+  const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
+  const auto render = queue_->Submit(Render(0, {precompute.id()}));
+  const auto other = queue_->Submit(failing);
+  const auto queued = queue_->Submit(Render(-5));
+  queue_->Fail(precompute.id(), MustLease("w1").token, "bad yarn", Failure::kPermanent);
+  queue_->Fail(other.id(), MustLease("w1").token, "flaky");
+  ASSERT_EQ(queue_->Get(render.id()).state(), v1::JOB_STATE_FAILED);
+  // All or none: a queued job among them refuses the lot.
+  EXPECT_LOOM_ERROR(queue_->Retry({other.id(), queued.id()}), ErrorCode::kFailedPrecondition,
+                    queued.id() + " is QUEUED");
+  EXPECT_EQ(queue_->Get(other.id()).state(), v1::JOB_STATE_FAILED);
+
+  const std::vector<v1::Job> retried = queue_->Retry({render.id(), other.id()});
+  ASSERT_EQ(retried.size(), 3u);
+  EXPECT_EQ(retried[0].id(), render.id());
+  EXPECT_EQ(retried[1].id(), other.id());
+  EXPECT_EQ(retried[2].id(), precompute.id());  // the dependency, retried with its render
+  for (const v1::Job& job : retried) {
+    EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED) << job.id();
+    EXPECT_EQ(job.attempts(), 0u) << job.id();
+    EXPECT_EQ(job.error(), "") << job.id();
+    EXPECT_EQ(job.timings().finished_ms(), 0) << job.id();
+  }
+  // The render waits for its precompute again, and runs after it.
+  EXPECT_EQ(MustLease("w1").job.id(), precompute.id());
+  EXPECT_LOOM_ERROR(queue_->Retry({"job-999"}), ErrorCode::kNotFound, "job-999");
+}
+
+TEST_F(JobQueueTest, SetPriorityReordersWaitingJobsAndRefusesFinishedOnes) {
+  const auto first = queue_->Submit(Render(0)).id();
+  const auto second = queue_->Submit(Render(0)).id();
+  EXPECT_EQ(queue_->SetPriority(second, 9).priority(), 9);
+  EXPECT_EQ(MustLease("w1").job.id(), second);
+  const JobLease lease = MustLease("w1");
+  EXPECT_EQ(lease.job.id(), first);
+  EXPECT_EQ(queue_->SetPriority(first, 3).state(), v1::JOB_STATE_LEASED);  // keeps running
+  queue_->Complete(first, lease.token, {});
+  EXPECT_LOOM_ERROR(queue_->SetPriority(first, 1), ErrorCode::kFailedPrecondition, "already SUCCEEDED");
+}
+
+TEST_F(JobQueueTest, DeleteRemovesFinishedJobsAndRefusesOneAnUnfinishedJobWaitsFor) {
+  v1::Job precompute_job;
+  precompute_job.set_kind(v1::JOB_KIND_PRECOMPUTE);
+  *precompute_job.mutable_precompute() = PrecomputePayload();
+  const auto done = queue_->SubmitDone(precompute_job, {kHash}, "cached");
+  const auto render = queue_->Submit(Render(0, {done.id()}));
+  const auto running = queue_->Submit(Render(0));
+  EXPECT_LOOM_ERROR(queue_->Delete({done.id()}), ErrorCode::kFailedPrecondition,
+                    "unfinished job " + render.id() + " depends on it");
+  const JobLease lease = MustLease("w1");
+  EXPECT_LOOM_ERROR(queue_->Delete({lease.job.id()}), ErrorCode::kFailedPrecondition, "only finished jobs");
+  queue_->Cancel(render.id() == lease.job.id() ? running.id() : render.id());
+  queue_->Complete(lease.job.id(), lease.token, {kHash});
+  const std::vector<v1::Job> deleted = queue_->Delete({done.id(), render.id(), running.id(), done.id()});
+  ASSERT_EQ(deleted.size(), 3u);
+  EXPECT_EQ(deleted[0].result_artifacts(0), kHash);
+  EXPECT_EQ(CountJobs(), 0);
+  EXPECT_LOOM_ERROR(queue_->Get(done.id()), ErrorCode::kNotFound, done.id());
+  // Tokens still only grow after their leases' rows are gone.
+  queue_->Submit(Render());
+  EXPECT_GT(MustLease("w1").token, lease.token);
+}
+
 TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
   auto job = Render();
   job.set_max_attempts(1);
