@@ -2,7 +2,7 @@
 # Loom's libFuzzer targets (fuzz/; docs/operations.md "Fuzzing").
 #
 #   scripts/fuzz.sh build                 configure and build them into build-fuzz/ (clang,
-#                                         ASan + UBSan), installing clang if it is missing
+#                                         ASan + UBSan)
 #   scripts/fuzz.sh run TARGET SECONDS    a long run of one target, its corpus kept in
 #                                         build-fuzz/corpus/TARGET (seeded from fuzz/corpus)
 #   scripts/fuzz.sh all SECONDS           a long run of every target, one after another
@@ -25,14 +25,7 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
 build() {
-  bash scripts/setup.sh --no-build
-  if ! command -v clang++ >/dev/null || ! dpkg-query -W -f='${Status}' libclang-rt-14-dev 2>/dev/null |
-      grep -q "install ok installed"; then
-    SUDO=""
-    if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends clang libclang-rt-14-dev
-  fi
+  bash scripts/setup.sh --no-build  # clang and its fuzzer runtime among the packages
   CC=clang CXX=clang++ cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLOOM_FUZZ=ON \
     -DLOOM_BUILD_TESTS=OFF
   cmake --build "$BUILD" --target fuzzers -j "${JOBS:-$(nproc)}"

@@ -23,6 +23,8 @@ PACKAGES=(
   nlohmann-json3-dev libssl-dev
   libyaml-cpp-dev
   gnuplot-nox
+  clang libclang-rt-14-dev
+  python3-grpcio python3-protobuf
 )
 
 missing=()
