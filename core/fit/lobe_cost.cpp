@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "core/fit/lobe_powers.h"
+#include "core/util/target_clones.h"
 
 namespace loom {
 
@@ -48,9 +49,7 @@ void LobeCost::UpdateLobeCache(const double* x) const {
 }
 
 template <uint32_t kLobes>
-__attribute__((target_clones("arch=x86-64-v3", "default"))) double LobeCost::Accumulate(const double* x,
-                                                                                        double* normal,
-                                                                                        double* gradient) const {
+LOOM_TARGET_CLONES double LobeCost::Accumulate(const double* x, double* normal, double* gradient) const {
   // [J e]ᵀ[J e] holds JᵀJ, Jᵀe and ‖e‖² at once. Samples go in blocks: their rows of
   // [J e] are written column by column, then each entry of the (upper) product is
   // a dot product over the block in kLanes independent partial sums. The partial

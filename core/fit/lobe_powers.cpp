@@ -7,6 +7,8 @@
 #include <limits>
 #include <utility>
 
+#include "core/util/target_clones.h"
+
 // The helpers below take and return 32-byte vectors; they have internal linkage
 // and are inlined, so the ABI note that GCC gives for them does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -26,7 +28,7 @@ constexpr size_t kLanes = 2;
 #define LOOM_LOBE_POWERS_CLONES
 #else
 constexpr size_t kLanes = 4;
-#define LOOM_LOBE_POWERS_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define LOOM_LOBE_POWERS_CLONES LOOM_TARGET_CLONES
 #endif
 using Vec = double __attribute__((vector_size(8 * kLanes)));
 using Bits = uint64_t __attribute__((vector_size(8 * kLanes)));

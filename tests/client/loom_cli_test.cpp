@@ -34,6 +34,15 @@ class LoomCliTest : public ServiceTest {
     WriteFileAtomic(data_dir_ / "files" / name, text);
     return data_dir_ / "files" / name;
   }
+  // `loom fabric precompute --no-wait` of the tiny knit; returns the job id.
+  std::string SubmitPrecompute() {
+    const auto fabric = Write("fabric.json", R"({"knit": {}})");
+    const auto settings = Write("settings.json", SpecToJson(TinySettings()));
+    const CliRun submitted =
+        Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() + " --no-wait");
+    EXPECT_EQ(submitted.exit_code, 0) << submitted.output;
+    return nlohmann::json::parse(submitted.output)["job"]["id"];
+  }
 };
 
 TEST_F(LoomCliTest, UnreachableServerIsExitCode4) {
@@ -62,12 +71,7 @@ TEST_F(LoomCliTest, CancelledJobIsExitCode6) {
   ServerOptions options;
   options.local_workers = 0;  // the job stays queued until cancelled
   StartServer(options);
-  const auto fabric = Write("fabric.json", R"({"knit": {}})");
-  const auto settings = Write("settings.json", SpecToJson(TinySettings()));
-  const CliRun submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
-                             " --no-wait");
-  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
-  const std::string id = nlohmann::json::parse(submitted.output)["job"]["id"];
+  const std::string id = SubmitPrecompute();
   EXPECT_EQ(Loom("jobs cancel " + id).exit_code, 0);
   const CliRun watched = Loom("jobs watch " + id);
   EXPECT_EQ(watched.exit_code, 6) << watched.output;
@@ -101,12 +105,7 @@ TEST_F(LoomCliTest, JobsCanBeReprioritisedRetriedAndDeleted) {
   ServerOptions options;
   options.local_workers = 0;  // jobs stay where the test puts them
   StartServer(options);
-  const auto fabric = Write("fabric.json", R"({"knit": {}})");
-  const auto settings = Write("settings.json", SpecToJson(TinySettings()));
-  const CliRun submitted = Loom("--json fabric precompute " + fabric.string() + " --settings " + settings.string() +
-                                " --no-wait");
-  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
-  const std::string id = nlohmann::json::parse(submitted.output)["job"]["id"];
+  const std::string id = SubmitPrecompute();
 
   CliRun run = Loom("--json jobs priority " + id + " 7");
   ASSERT_EQ(run.exit_code, 0) << run.output;
