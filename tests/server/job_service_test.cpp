@@ -364,8 +364,8 @@ TEST_F(ServiceTest, MeshesWithIndicesOutOfRangeAreRefusedAndTheServerGoesOn) {
   client::JobClient client = Client();
   const v1::Job before = client.Submit(PrecomputeRequest()).job();
   const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
-  for (const std::string& face : {"f 1/1 2/2 100000000/3", "f 1/1 2/2 -100000000/3", "f 1/1 2/2 3/100000000",
-                                  "f 1/1 2/2 3/-5"}) {
+  for (const char* face : {"f 1/1 2/2 100000000/3", "f 1/1 2/2 -100000000/3", "f 1/1 2/2 3/100000000",
+                          "f 1/1 2/2 3/-5"}) {
     const std::string obj = head + face + "\n";
     v1::UploadArtifactRequest::Header header;
     *header.mutable_artifact() = rpc::MakeArtifactRef("mesh.obj", obj);
