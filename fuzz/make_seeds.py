@@ -2,14 +2,14 @@
 """Writes the fuzz targets' seed corpora into fuzz/corpus/ (committed; run again
 after a format change). Spec and OBJ seeds are copies and small hand-written
 cases; the samples and asset seeds come from loom-lab on a tiny fabric; the upload
-seeds are protobuf messages encoded by hand (no Python protobuf needed).
+seeds are protobuf messages encoded by hand (no Python protobuf needed). Seeds
+named regression_* are inputs long runs found; they are kept.
 
   python3 fuzz/make_seeds.py [BUILD_DIR]     (default build; needs build/lab/loom-lab)
 """
 import hashlib
 import json
 import pathlib
-import shutil
 import struct
 import subprocess
 import sys
@@ -128,8 +128,10 @@ def uploads():
 
 
 if __name__ == "__main__":
-    for target in CORPUS.glob("*"):
-        shutil.rmtree(target)
+    # regression_* seeds are inputs a long run found (each fixed since): they stay.
+    for seed in CORPUS.glob("*/*"):
+        if not seed.name.startswith("regression_"):
+            seed.unlink()
     specs()
     objs()
     lab_seeds()

@@ -19,8 +19,9 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 BUILD=${FUZZ_BUILD_DIR:-build-fuzz}
 TARGETS=(fabric_spec_fuzzer precompute_spec_fuzzer scene_spec_fuzzer obj_fuzzer samples_fuzzer asset_fuzzer
          upload_fuzzer)
-# Bounds that keep one input cheap: the largest seed is ~40 KB.
-FLAGS=(-max_len=262144 -rss_limit_mb=2048 -timeout=20 -print_final_stats=1)
+# Bounds that keep one input cheap (the largest seed is ~40 KB); one allocation
+# over 512 MB is a finding: no input of these sizes has a use for one.
+FLAGS=(-max_len=262144 -rss_limit_mb=2048 -malloc_limit_mb=512 -timeout=20 -print_final_stats=1)
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
+#include "core/image/exr_header.h"
 #include "core/spec/defaults.h"
 #include "core/spec/limits.h"
 #include "core/spec/spec_json.h"
@@ -269,8 +270,11 @@ void CheckLevelChain(const json& levels, uint64_t views, const Invalid& invalid)
   }
 }
 
-// Verifies `name` in `directory` against the manifest's entry; returns its path.
-std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const json& files, const char* name) {
+// Verifies `name` in `directory` against the manifest's entry and its OpenEXR
+// header against the level-0 side the manifest gives (core/image/exr_header.h)
+// before OpenEXR reads it; returns its path.
+std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const json& files, const char* name,
+                                   int side) {
   const std::filesystem::path path = directory / name;
   const std::string bytes = ReadFile(path);
   const json& entry = files.at(name);
@@ -278,6 +282,7 @@ std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const
     throw Error(ErrorCode::kInvalidArgument,
                 path.string() + " is corrupted: its size or SHA-256 differs from " + kManifestFile);
   }
+  CheckExrHeader(bytes, side, side, path.string());
   return path;
 }
 
@@ -344,12 +349,12 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
     fabric.sampling_height = manifest.at("sampling_height");
     fabric.seconds = manifest.at("fit_seconds");
     fabric.view_directions = HemisphereGridDirections(static_cast<uint32_t>(view_count));
-    const json& files = manifest.at("files");
-    const std::filesystem::path parameters_path = VerifiedFile(directory, files, kParametersFile);
-    const std::filesystem::path lut_path = VerifiedFile(directory, files, kLutFile);
-
     const size_t views = fabric.view_directions.size();
     const int k = static_cast<int>(HemisphereGridSide(static_cast<uint32_t>(views)));
+    const int side = manifest.at("levels")[0].at("resolution").get<int>();
+    const json& files = manifest.at("files");
+    const std::filesystem::path parameters_path = VerifiedFile(directory, files, kParametersFile, side);
+    const std::filesystem::path lut_path = VerifiedFile(directory, files, kLutFile, side * k);
     std::vector<int> parameter_sides, lut_sides;
     for (const json& stats : manifest.at("levels")) {
       FittedLevel& level = fabric.levels.emplace_back();

@@ -1,0 +1,18 @@
+#pragma once
+// A check of an OpenEXR file's header before OpenEXR reads it. Debian's OpenEXR
+// 3.1 allocates what a header field says before reading what follows (a 4 KB file
+// whose string attribute claims 1.9 GB made it allocate 1.9 GB: found by
+// fuzz/asset_fuzzer), so EXR bytes from another machine are checked first.
+// Accepted: a single-part scanline or tiled image whose data window is exactly the
+// `width`×`height` the caller expects, every attribute within the file, vectors
+// and previews consistent with their own sizes, tiles of 16 to 65536 pixels a
+// side. Anything else is Error(kInvalidArgument) naming `source` and the field.
+
+#include <string>
+#include <string_view>
+
+namespace loom {
+
+void CheckExrHeader(std::string_view bytes, int width, int height, const std::string& source);
+
+}  // namespace loom
