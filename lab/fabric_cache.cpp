@@ -4,7 +4,6 @@
 
 #include <cmath>
 
-#include "core/fit/fabric_asset.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/util/file_io.h"
 #include "core/util/progress_bar.h"
@@ -29,12 +28,12 @@ CachedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::
   const std::filesystem::path directory = cache.empty() ? std::filesystem::path() : cache / fabric.key;
   CachedFabric result;
   if (!directory.empty() && std::filesystem::exists(directory / "manifest.json")) {
-    result.fit = ReadFabricAsset(directory);
+    result.asset = ReadAnyFabricAsset(directory);
     result.loaded = true;
     result.asset_bytes = DirectoryBytes(directory);
-    // An asset stored by another tool has no timing file: its fit time is the best
-    // figure left.
-    result.precompute_seconds = result.fit.seconds;
+    // An asset stored by another tool has no timing file: its build time is the
+    // best figure left.
+    result.precompute_seconds = result.asset->build_seconds();
     result.precompute_cpu_seconds = NAN;
     if (std::filesystem::exists(directory / kTimingFile)) {
       const nlohmann::json timing = nlohmann::json::parse(ReadFile(directory / kTimingFile));
@@ -46,15 +45,15 @@ CachedFabric LoadOrPrecompute(const SceneFabric& fabric, const std::filesystem::
   ProgressBar bar("precompute " + fabric.key.substr(0, 8));
   const Stopwatch stopwatch;
   const ProcessCpuStopwatch cpu;
-  result.fit = PrecomputeFabric(fabric.fabric, fabric.settings,
-                                [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
+  result.asset = PrecomputeAsset(fabric.fabric, fabric.settings,
+                                 [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
   result.precompute_seconds = stopwatch.Seconds();
   result.precompute_cpu_seconds = cpu.Seconds();
   if (!directory.empty()) {
-    WriteFabricAsset(result.fit, fabric.settings, fabric.key, directory);
+    result.asset->Write(fabric.settings, fabric.key, directory);
     // Render what was stored (half floats where the asset allows them), as every
-    // later run and every user does, not the full-precision fit in memory.
-    result.fit = ReadFabricAsset(directory);
+    // later run and every user does, not the full-precision build in memory.
+    result.asset = ReadAnyFabricAsset(directory);
     result.asset_bytes = DirectoryBytes(directory);
     WriteFileAtomic(directory / kTimingFile,
                     nlohmann::json({{"seconds", result.precompute_seconds}, {"cpu_seconds", result.precompute_cpu_seconds}})

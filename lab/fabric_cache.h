@@ -1,5 +1,5 @@
 #pragma once
-// A directory of fitted fabric assets by cache key, shared by `loom-lab render
+// A directory of fabric assets (any method) by cache key, shared by `loom-lab render
 // --fabric-cache` and `loom-lab sweep`: a fabric found there is read, one that is
 // not is precomputed and stored, so each distinct (fabric, settings) is fitted once
 // across runs. Next to each asset the cache keeps what the precompute cost, wall and
@@ -8,14 +8,16 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "core/fit/fabric_fit.h"
+#include <memory>
+
+#include "core/methods/fabric_method.h"
 #include "core/render/scene_render.h"
 
 namespace loom::lab {
 
 struct CachedFabric {
-  FittedFabric fit;
-  double precompute_seconds = 0.0;  // geometry + acquisition + fit, when it was computed
+  std::unique_ptr<FabricAsset> asset;
+  double precompute_seconds = 0.0;  // geometry + acquisition + build, when it was computed
   // Its CPU time (every thread), which the machine's load does not inflate; NaN
   // for an asset cached without it.
   double precompute_cpu_seconds = 0.0;

@@ -1,6 +1,7 @@
-// loom-lab render: a scene to an image. `svbrdf` renders with the fitted BRDF
-// arrays on the GPU (each distinct fabric precomputed once in this process);
-// `reference` ray traces the real yarn geometry shell-mapped onto the surfaces.
+// loom-lab render: a scene to an image. The GPU renders each fabric by its method
+// (svbrdf: the fitted BRDF arrays; tabulated: the samples), each distinct fabric
+// precomputed once in this process; `reference` ray traces the real yarn geometry
+// shell-mapped onto the surfaces.
 
 #include <algorithm>
 #include <cctype>
@@ -29,24 +30,30 @@ std::string EnumName(std::string_view prefix, std::string value) {
   return std::string(prefix) + value;
 }
 
-// Renders with svbrdf, fitting each distinct fabric in this process first (or
+// Renders on the GPU, precomputing each distinct fabric in this process first (or
 // loading it from `cache`); adds its figures to `figures`. `frames` renders of the
 // same renderer: frame_ms and gpu_ms are the fastest, as in the sweep, since the
 // first frame also pays for compiling a shader variant and allocating the shadow
 // maps (first_frame_ms says how much).
-Image RenderSvbrdf(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
+Image RenderGpu(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
                    const std::filesystem::path& cache, int frames, nlohmann::json& figures) {
   const Stopwatch stopwatch;
-  std::map<std::string, FittedFabric> fitted;
-  FittedFabrics fits;
+  std::map<std::string, CachedFabric> built;
+  FabricAssets fits;
   for (const SceneFabric& fabric : SceneFabrics(scene)) {
-    fits[fabric.key] = &fitted.emplace(fabric.key, LoadOrPrecompute(fabric, cache).fit).first->second;
+    fits[fabric.key] = built.emplace(fabric.key, LoadOrPrecompute(fabric, cache)).first->second.asset.get();
   }
+  std::string methods;  // the fabrics' methods, in order of first use
+  for (const SceneFabric& fabric : SceneFabrics(scene)) {
+    const std::string name(fits.at(fabric.key)->method().name());
+    if (methods.find(name) == std::string::npos) methods += (methods.empty() ? "" : "+") + name;
+  }
+  figures["method"] = methods.empty() ? "svbrdf" : methods;
   figures["fabrics"] = fits.size();
   figures["precompute_seconds"] = stopwatch.Seconds();  // loading, where the cache had them
 
   const auto context = MakeContext(gl);
-  SvbrdfRenderer renderer(*context);
+  GpuRenderer renderer(*context);
   RenderedFrame frame = RenderScene(renderer, scene, meshes, fits);
   figures["first_frame_ms"] = frame.cpu_ms;
   double frame_ms = frame.cpu_ms, gpu_ms = frame.gpu_ms;
@@ -84,8 +91,10 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   auto* command = app.add_subcommand("render", "Render a scene to an image (.png sRGB or .exr linear)");
   command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
   command->add_option("--out,-o", options->out, "Output image")->required();
-  command->add_option("--method", options->method, "Render method (default: the scene's render.method)")
-      ->check(CLI::IsMember({"svbrdf", "reference"}));
+  command->add_option("--method", options->method,
+                      "reference, or a fabric method for every cloth object on the GPU: svbrdf, tabulated "
+                      "(default: the scene's render.method and each object's precompute.method)")
+      ->check(CLI::IsMember({"svbrdf", "tabulated", "reference"}));
   command->add_option("--level-mode", options->level_mode, "svbrdf level mode (default: the scene's render.level_mode)")
       ->check(CLI::IsMember({"none", "nearest", "trilinear", "anisotropic"}));
   command->add_option("--texel-filter", options->texel_filter,
@@ -103,8 +112,16 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             FormatFromPath(options->out);  // reject a bad extension before any work
             v1::SceneSpec scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
-            if (options->method == "reference") scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
-            if (options->method == "svbrdf") scene.mutable_render()->set_method(v1::RENDER_METHOD_SVBRDF);
+            if (options->method == "reference") {
+              scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
+            } else if (!options->method.empty()) {
+              scene.mutable_render()->set_method(v1::RENDER_METHOD_SVBRDF);
+              v1::FabricMethod method = v1::FABRIC_METHOD_UNSPECIFIED;
+              v1::FabricMethod_Parse(EnumName("FABRIC_METHOD_", options->method), &method);
+              for (v1::SceneObject& object : *scene.mutable_objects()) {
+                if (object.has_fabric()) object.mutable_fabric()->mutable_precompute()->set_method(method);
+              }
+            }
             v1::RenderSettings& render = *scene.mutable_render();
             if (!options->level_mode.empty()) {
               v1::LevelMode mode = v1::LEVEL_MODE_UNSPECIFIED;
@@ -122,10 +139,10 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
             const auto meshes =
                 BuildSceneGeometry(scene, FileMeshResolver(std::filesystem::path(options->scene).parent_path()));
             const bool reference = scene.render().method() == v1::RENDER_METHOD_REFERENCE;
-            nlohmann::json figures = {{"out", options->out}, {"method", reference ? "reference" : "svbrdf"}};
+            nlohmann::json figures = {{"out", options->out}, {"method", "reference"}};
             const Image image =
                 reference ? RenderReference(scene, meshes, figures)
-                          : RenderSvbrdf(scene, meshes, options->gl, options->fabric_cache, options->frames, figures);
+                          : RenderGpu(scene, meshes, options->gl, options->fabric_cache, options->frames, figures);
             WriteImage(image, options->out);
             figures["width"] = image.width;
             figures["height"] = image.height;

@@ -162,7 +162,7 @@ class Sweep {
       if (!Guarded(configuration, by_fabric.at(key), [&] { cached = LoadOrPrecompute(fabrics.at(key), out_ / "fabrics"); })) {
         continue;
       }
-      const FittedFabrics fits = {{key, &cached.fit}};
+      const FabricAssets fits = {{key, cached.asset.get()}};
       for (const BenchScene* scene : by_fabric.at(key)) {
         Guarded(configuration, {scene}, [&] { MeasureSvbrdfScene(configuration, *scene, cached, fits); });
       }
@@ -170,7 +170,7 @@ class Sweep {
   }
 
   void MeasureSvbrdfScene(const SweepConfiguration& configuration, const BenchScene& scene,
-                          const CachedFabric& cached, const FittedFabrics& fits) {
+                          const CachedFabric& cached, const FabricAssets& fits) {
     const v1::SceneSpec configured = WithDefaults(ConfiguredScene(configuration, scene));
     Frames frames;
     for (int k = 0; k < grid_.flicker_frames; ++k) {
@@ -236,10 +236,10 @@ class Sweep {
     return ground_truth_.emplace(scene.name, ReadImage(path)).first->second;
   }
 
-  SvbrdfRenderer& Renderer() {
+  GpuRenderer& Renderer() {
     if (!renderer_) {
       context_ = MakeContext(gl_);
-      renderer_ = std::make_unique<SvbrdfRenderer>(*context_);
+      renderer_ = std::make_unique<GpuRenderer>(*context_);
     }
     return *renderer_;
   }
@@ -254,7 +254,8 @@ class Sweep {
     const v1::RenderSettings& render = configured.render();
     const RenderColumns render_columns = SweepRenderColumns(render);
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
-    results_.Append({configuration.name, scene.name, svbrdf ? "svbrdf" : "reference", scene.fabric, scene.view,
+    const std::string method = svbrdf ? std::string(MethodOf(precompute.method()).name()) : "reference";
+    results_.Append({configuration.name, scene.name, method, scene.fabric, scene.view,
                      scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
                      FabricKindName(ClassifyFabric(configured.objects(0).fabric().fabric())),
                      when_svbrdf(std::to_string(precompute.spatial_resolution())),
@@ -284,7 +285,7 @@ class Sweep {
   ReferenceRenderer reference_;
   std::map<std::string, Image> ground_truth_;
   std::unique_ptr<gl::EglContext> context_;
-  std::unique_ptr<SvbrdfRenderer> renderer_;
+  std::unique_ptr<GpuRenderer> renderer_;
   size_t done_ = 0, total_ = 0, failed_ = 0;
 };
 

@@ -122,11 +122,14 @@ SweepGrid LoadSweepGrid(const std::filesystem::path& grid_file) {
         }
       }
       const std::string method = entry.value("method", "svbrdf");
-      if (method != "svbrdf" && method != "reference") {
-        throw Error(ErrorCode::kInvalidArgument, field + ".method: '" + method + "' is not svbrdf or reference");
+      if (method != "svbrdf" && method != "tabulated" && method != "reference") {
+        throw Error(ErrorCode::kInvalidArgument,
+                    field + ".method: '" + method + "' is not svbrdf, tabulated or reference");
       }
       configuration.method = method == "reference" ? v1::RENDER_METHOD_REFERENCE : v1::RENDER_METHOD_SVBRDF;
       configuration.precompute = Merged(base_precompute, entry, "precompute", field + ".precompute");
+      // A fabric method: the GPU renders with it (precompute.method).
+      if (method == "tabulated") configuration.precompute.set_method(v1::FABRIC_METHOD_TABULATED);
       configuration.render = Merged(base_render, entry, "render", field + ".render");
       configuration.scene_patterns = Patterns(entry, field + ".scenes");
       if (entry.contains("plan_budget_db")) {

@@ -8,7 +8,7 @@
 #include <charconv>
 #include <string_view>
 
-#include "core/fit/fabric_asset.h"
+#include "core/methods/fabric_method.h"
 #include "core/image/image.h"
 #include "core/render/reference_renderer.h"
 #include "core/spec/defaults.h"
@@ -79,7 +79,7 @@ std::vector<NamedFile> ReadDirectory(const std::filesystem::path& directory) {
 
 JobRunner::JobRunner(const gl::ContextOptions& options)
     : context_(gl::EglContext::Create(options)),
-      renderer_(std::make_unique<SvbrdfRenderer>(*context_)),
+      renderer_(std::make_unique<GpuRenderer>(*context_)),
       scratch_(MakeScratchDirectory()) {}
 
 JobRunner::~JobRunner() {
@@ -93,13 +93,13 @@ std::filesystem::path JobRunner::NewScratchPath(const std::string& stem) {
 
 std::vector<NamedFile> JobRunner::Precompute(const v1::PrecomputeJob& job, const std::string& fabric_key,
                                              const PrecomputeProgress& progress) {
-  const FittedFabric fit = PrecomputeFabric(job.fabric(), job.settings(), progress);
+  const std::unique_ptr<FabricAsset> asset = PrecomputeAsset(job.fabric(), job.settings(), progress);
   const StepDirectory directory(NewScratchPath("asset"));
-  WriteFabricAsset(fit, job.settings(), fabric_key, directory.path());
+  asset->Write(job.settings(), fabric_key, directory.path());
   return ReadDirectory(directory.path());
 }
 
-FittedFabric JobRunner::ReadAsset(const std::vector<NamedFile>& files) {
+std::unique_ptr<FabricAsset> JobRunner::ReadAsset(const std::vector<NamedFile>& files) {
   const StepDirectory directory(NewScratchPath("fabric"));
   for (const NamedFile& file : files) {
     if (file.name.empty() || file.name.find('/') != std::string::npos) {
@@ -107,17 +107,17 @@ FittedFabric JobRunner::ReadAsset(const std::vector<NamedFile>& files) {
     }
     WriteFileAtomic(directory.path() / file.name, file.bytes);
   }
-  return ReadFabricAsset(directory.path());
+  return ReadAnyFabricAsset(directory.path());
 }
 
-NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits,
+NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FabricAssets& assets,
                             const ReferenceProgress& progress) {
   const v1::SceneSpec scene = WithDefaults(job.scene());
   ValidateOrThrow(scene);
   const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes);
   const Image image = scene.render().method() == v1::RENDER_METHOD_REFERENCE
                           ? ReferenceRenderer().Render(scene, geometry, progress).image
-                          : RenderScene(*renderer_, scene, geometry, fits).image;
+                          : RenderScene(*renderer_, scene, geometry, assets).image;
   const bool exr = scene.render().format() == v1::IMAGE_FORMAT_EXR;
   const std::string name = exr ? "frame.exr" : "frame.png";
   const StepDirectory directory(NewScratchPath("frame"));

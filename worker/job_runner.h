@@ -43,28 +43,28 @@ class JobRunner {
   const gl::DeviceInfo& device() const { return context_->info(); }
   const std::filesystem::path& scratch_directory() const { return scratch_; }
 
-  // The fabric asset of `job` (core/fit/fabric_asset.h) as files, keyed
+  // The fabric asset of `job` (its method's, core/methods/fabric_method.h) as files, keyed
   // `fabric_key`. `progress` is core's callback: throwing from it cancels.
   std::vector<NamedFile> Precompute(const v1::PrecomputeJob& job, const std::string& fabric_key,
                                     const PrecomputeProgress& progress);
 
-  // A fabric asset's files back into the fit (checksums verified).
-  FittedFabric ReadAsset(const std::vector<NamedFile>& files);
+  // A fabric asset's files back into the asset (checksums verified).
+  std::unique_ptr<FabricAsset> ReadAsset(const std::vector<NamedFile>& files);
 
   // The frame of `job`, encoded as its scene's format says (unspecified: PNG), by
-  // the scene's method: svbrdf on the context, or the reference ray tracer.
-  // `meshes` resolves uploaded mesh artifacts; for svbrdf, `fits` holds every
+  // the scene's method: the GPU renderer on the context, or the reference ray tracer.
+  // `meshes` resolves uploaded mesh artifacts; for the GPU, `assets` holds every
   // fabric the scene names (core/render/scene_render.h). `progress` hears of the
   // reference's pixel rows (an svbrdf frame takes too little time to report on);
   // what it throws abandons the render.
-  NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FittedFabrics& fits,
+  NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FabricAssets& assets,
                    const ReferenceProgress& progress = {});
 
  private:
   std::filesystem::path NewScratchPath(const std::string& stem);
 
   std::unique_ptr<gl::EglContext> context_;
-  std::unique_ptr<SvbrdfRenderer> renderer_;
+  std::unique_ptr<GpuRenderer> renderer_;
   std::filesystem::path scratch_;
   uint64_t next_scratch_ = 0;
 };

@@ -174,14 +174,14 @@ class WorkerLoop::Lease {
   std::thread heartbeat_;
 };
 
-// Fitted fabrics by key, the few most recently used.
+// Fabric assets by key, the few most recently used.
 class WorkerLoop::FitCache {
  public:
-  const FittedFabric& Get(const v1::FabricAsset& asset, JobRunner& runner, v1::WorkerService::Stub& stub) {
+  const FabricAsset& Get(const v1::FabricAsset& asset, JobRunner& runner, v1::WorkerService::Stub& stub) {
     const auto found = std::find_if(fits_.begin(), fits_.end(), [&](const auto& e) { return e.first == asset.fabric_key(); });
     if (found != fits_.end()) {
       std::rotate(fits_.begin(), found, found + 1);
-      return fits_.front().second;
+      return *fits_.front().second;
     }
     std::vector<NamedFile> files;
     for (const v1::ArtifactRef& file : asset.files()) {
@@ -189,11 +189,11 @@ class WorkerLoop::FitCache {
     }
     fits_.emplace(fits_.begin(), asset.fabric_key(), runner.ReadAsset(files));
     if (fits_.size() > kKeptFits) fits_.pop_back();
-    return fits_.front().second;
+    return *fits_.front().second;
   }
 
  private:
-  std::vector<std::pair<std::string, FittedFabric>> fits_;  // most recent first
+  std::vector<std::pair<std::string, std::unique_ptr<FabricAsset>>> fits_;  // most recent first
 };
 
 WorkerLoop::WorkerLoop(std::shared_ptr<grpc::Channel> channel, WorkerOptions options)
@@ -302,7 +302,7 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
                                [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
     });
   }
-  FittedFabrics fitted;
+  FabricAssets fitted;
   for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
   const MeshTextResolver meshes = [this](const v1::MeshRef& mesh, const TextSink& consume) {
     if (mesh.source_case() != v1::MeshRef::kArtifact) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/util/error.h"
 
 namespace loom {
@@ -101,11 +102,13 @@ FabricTextures::~FabricTextures() {
   glDeleteTextures(1, &lut_);
 }
 
+const FabricMethod& FabricTextures::method() const { return SvbrdfMethod(); }
+
 void FabricTextures::Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const {
-  glBindTextureUnit(static_cast<GLuint>(first_unit), params_);
-  glBindTextureUnit(static_cast<GLuint>(first_unit + 1), lut_);
-  program.Set("u_fabric_params", first_unit);
-  program.Set("u_fabric_lut", first_unit + 1);
+  glBindTextureUnit(static_cast<GLuint>(first_unit), lut_);
+  glBindTextureUnit(static_cast<GLuint>(first_unit + 1), params_);
+  program.Set("u_fabric_views", first_unit);
+  program.Set("u_fabric_params", first_unit + 1);
   program.Set("u_fabric_lobes", static_cast<int>(lobes_));
   program.Set("u_fabric_levels", static_cast<int>(levels_));
   program.Set("u_fabric_resolution", static_cast<int>(resolution_));

@@ -1,5 +1,6 @@
 #pragma once
-// A fitted fabric in GPU memory, in the layout core/shaders/fabric.glsl reads:
+// A fitted fabric (the svbrdf method) in GPU memory, in the layout
+// core/shaders/svbrdf.glsl reads:
 //
 // params: a 2-D array texture, RGBA float, whose mip level ℓ is fitted level ℓ
 //   (resolution >> ℓ texels a side; fitted, not filtered), one texel attribute
@@ -7,7 +8,8 @@
 //     0: ρ.rgb              1: normal.xyz          2: tangent.xyz
 //     3 + 3i: C_x,i.rgb, N_i.r   4 + 3i: C_y,i.rgb, N_i.g   5 + 3i: C_z,i.rgb, N_i.b
 //   for i < kMaxLafortuneLobes (unused lobes zero: C = 0 turns a lobe off).
-// lut: a 2-D texture, RGBA float (T(v).rgb, alpha(v)), mip level ℓ an atlas of
+// lut: the view atlas (core/shaders/fabric_surface.glsl), RGBA float (T(v).rgb,
+//   alpha(v)), mip level ℓ an atlas of
 //   (resolution_ℓ · k)² texels: texel (x, y)'s table is the k×k block at
 //   (x·k, y·k), view (col, row) of the hemisphere grid (core/acquire/
 //   hemisphere_directions.h) at (x·k + col, y·k + row). Linear filtering inside a
@@ -24,6 +26,7 @@
 
 #include "core/fit/fabric_fit.h"
 #include "core/gl/shader_program.h"
+#include "core/methods/fabric_method.h"
 
 namespace loom {
 
@@ -57,18 +60,18 @@ struct FabricTextureData {
   static FabricTextureData FromFit(const FittedFabric& fit);
 };
 
-class FabricTextures {
+class FabricTextures final : public GpuFabric {
  public:
   // `half` stores the lookup table in 16-bit floats (half its memory); the
   // parameters stay 32-bit, as in the asset: the lobes' C^N amplifies rounding.
   FabricTextures(const FabricTextureData& data, bool half);
-  ~FabricTextures();
+  ~FabricTextures() override;
   FabricTextures(const FabricTextures&) = delete;
   FabricTextures& operator=(const FabricTextures&) = delete;
 
-  // Binds the textures to units `first_unit` and `first_unit + 1` and sets the
-  // fabric uniforms of `program` (fabric.glsl).
-  void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const;
+  const FabricMethod& method() const override;
+  // The LUT (the view atlas) at `first_unit`, the parameters at `first_unit + 1`.
+  void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override;
 
  private:
   GLuint params_ = 0;

@@ -5,7 +5,7 @@
 // its samples (core/acquire/yarn_radiance.h, core/acquire/indirect_light.h); other
 // objects are Lambertian in their base colour. Ray traced on the CPU with Embree,
 // many samples per pixel. Light units, ambient, background and camera are those of
-// the svbrdf renderer (core/render/svbrdf_renderer.h), so frames compare directly.
+// the svbrdf renderer (core/render/gpu_renderer.h), so frames compare directly.
 //
 // Pixels. render.reference_samples samples per pixel, averaged (a box filter over
 // the pixel's area): with s = ⌊√n⌋, s² jittered samples on an s×s grid plus n − s²

@@ -22,24 +22,23 @@ std::vector<SceneFabric> SceneFabrics(const v1::SceneSpec& scene) {
   return fabrics;
 }
 
-RenderedFrame RenderScene(SvbrdfRenderer& renderer, const v1::SceneSpec& scene,
-                          const std::vector<SceneMesh>& meshes, const FittedFabrics& fits) {
-  std::map<std::string, std::unique_ptr<FabricTextures>> textures;
-  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
+RenderedFrame RenderScene(GpuRenderer& renderer, const v1::SceneSpec& scene,
+                          const std::vector<SceneMesh>& meshes, const FabricAssets& assets) {
+  std::map<std::string, std::unique_ptr<GpuFabric>> uploads;
+  std::vector<const GpuFabric*> fabrics(meshes.size(), nullptr);
   for (size_t i = 0; i < meshes.size(); ++i) {
     const v1::SceneObject& object = *meshes[i].object;
     if (!object.has_fabric()) continue;
     const v1::FabricBinding& binding = object.fabric();
     const std::string key = FabricKey(binding.fabric(), binding.precompute());
-    auto& uploaded = textures[key];
+    auto& uploaded = uploads[key];
     if (!uploaded) {
-      const auto fit = fits.find(key);
-      if (fit == fits.end() || fit->second == nullptr) {
+      const auto asset = assets.find(key);
+      if (asset == assets.end() || asset->second == nullptr) {
         throw Error(ErrorCode::kFailedPrecondition,
-                    "object '" + object.name() + "': fabric " + key + " is not fitted");
+                    "object '" + object.name() + "': fabric " + key + " is not precomputed");
       }
-      uploaded = std::make_unique<FabricTextures>(FabricTextureData::FromFit(*fit->second),
-                                                  binding.precompute().half_float());
+      uploaded = asset->second->Upload(binding.precompute().half_float());
     }
     fabrics[i] = uploaded.get();
   }

@@ -1,15 +1,15 @@
 #pragma once
-// A scene rendered with the `svbrdf` method from fabrics that are already fitted:
-// the one piece shared by `loom-lab render` (which fits each fabric in-process) and
-// the render worker (which reads them from cached assets), so both make the same
-// frame from the same fits.
+// A scene rendered on the GPU from fabric assets that are already built: the one
+// piece shared by `loom-lab render` (which builds each fabric in-process) and the
+// render worker (which reads them from cached assets), so both make the same frame
+// from the same assets.
 
 #include <map>
 #include <string>
 #include <vector>
 
-#include "core/fit/fabric_fit.h"
-#include "core/render/svbrdf_renderer.h"
+#include "core/methods/fabric_method.h"
+#include "core/render/gpu_renderer.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/fabric.pb.h"
 #include "loom/v1/precompute.pb.h"
@@ -28,14 +28,14 @@ struct SceneFabric {
 // Objects sharing a fabric and settings share one entry.
 std::vector<SceneFabric> SceneFabrics(const v1::SceneSpec& scene);
 
-// Fitted fabrics by cache key; the caller owns them.
-using FittedFabrics = std::map<std::string, const FittedFabric*>;
+// Fabric assets by cache key; the caller owns them.
+using FabricAssets = std::map<std::string, const FabricAsset*>;
 
 // Uploads each distinct fabric once and renders with `renderer` on its context
 // (current on the calling thread). `scene` with defaults applied and validated,
 // `meshes` = BuildSceneGeometry(scene). Throws Error(kFailedPrecondition) naming
-// the object whose fabric is not in `fits`.
-RenderedFrame RenderScene(SvbrdfRenderer& renderer, const v1::SceneSpec& scene,
-                          const std::vector<SceneMesh>& meshes, const FittedFabrics& fits);
+// the object whose fabric is not in `assets`.
+RenderedFrame RenderScene(GpuRenderer& renderer, const v1::SceneSpec& scene,
+                          const std::vector<SceneMesh>& meshes, const FabricAssets& assets);
 
 }  // namespace loom

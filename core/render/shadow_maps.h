@@ -14,7 +14,7 @@
 
 #include "core/gl/mesh_buffer.h"
 #include "core/gl/shader_program.h"
-#include "core/render/fabric_textures.h"
+#include "core/methods/fabric_method.h"
 
 namespace loom {
 
@@ -32,16 +32,16 @@ class ShadowMaps {
   ShadowMaps(const ShadowMaps&) = delete;
   ShadowMaps& operator=(const ShadowMaps&) = delete;
 
-  // A mesh with a fitted fabric, repeated `repeat` times across its uv square.
+  // A mesh with a fabric of any method, repeated `repeat` times across its uv square.
   struct ClothCaster {
     const gl::MeshBuffer* mesh;
-    const FabricTextures* fabric;
+    const GpuFabric* fabric;
     glm::vec2 repeat;
   };
 
   // Renders one map per direction (unit, towards the light; at most
   // kMaxShadowMaps) covering `bounds`; matrix(i) maps world space to map i's [0,1]³.
-  // Cloth binds its fabric's textures to units `fabric_unit` and `fabric_unit` + 1.
+  // Cloth binds its fabric's textures to units from `fabric_unit` on.
   void Render(const std::vector<glm::vec3>& directions, const SceneBounds& bounds,
               const std::vector<const gl::MeshBuffer*>& opaque, const std::vector<ClothCaster>& cloth,
               int fabric_unit);

@@ -1,13 +1,13 @@
 #version 450 core
 // Cloth in a shadow map (core/render/shadow_maps.cpp): depth where its yarns stop
 // the light, none where it passes through the holes. A map texel holds one depth,
-// so coverage alpha (fabric.glsl FabricCoverage, for the direction towards the
+// so coverage alpha (fabric_surface.glsl FabricCoverage, for the direction towards the
 // light) becomes the fraction of texels written, an ordered 4×4 dither: the
 // lights' 3×3 PCF with bilinear depth compares reads about 4×4 texels, so a
 // receiver behind cloth of coverage a gets about 1 − a of the light — as the
 // reference's shadow rays, which pass through the real holes (reference_renderer.cpp).
 
-#include "fabric.glsl"
+#include "fabric_surface.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;

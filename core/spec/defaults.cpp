@@ -159,6 +159,7 @@ v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (!settings.has_indirect_bounces()) settings.set_indirect_bounces(kDefaultIndirectBounces);
   if (settings.supersampling() == 0) settings.set_supersampling(kDefaultSupersampling);
   if (!settings.has_half_float()) settings.set_half_float(true);
+  if (settings.method() == v1::FABRIC_METHOD_UNSPECIFIED) settings.set_method(v1::FABRIC_METHOD_SVBRDF);
   return settings;
 }
 

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/methods/fabric_method.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
 #include "core/util/sha256.h"
@@ -31,9 +32,14 @@ std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::Precompu
 
   // nlohmann::json keeps object keys in a std::map: dump() is sorted.
   nlohmann::json canonical;
-  canonical["asset_format_version"] = kAssetFormatVersion;
+  const v1::PrecomputeSettings full = WithDefaults(settings);
+  const FabricMethod& method = MethodOf(full.method());
+  const v1::PrecomputeSettings keyed = method.KeySettings(full);
+  canonical["asset_format_version"] = method.asset_format_version();
   canonical["fabric"] = FullJson(canonical_fabric);
-  canonical["precompute"] = FullJson(WithDefaults(settings));
+  canonical["precompute"] = FullJson(keyed);
+  // A method keyed without its method field (svbrdf, whose keys predate methods).
+  if (keyed.method() == v1::FABRIC_METHOD_UNSPECIFIED) canonical["precompute"].erase("method");
   return canonical.dump();
 }
 

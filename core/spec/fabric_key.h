@@ -1,9 +1,10 @@
 #pragma once
 // The fabric cache key (DESIGN.md "Schema"): a content hash of the canonical
-// FabricSpec + PrecomputeSettings + the engine's asset-format version, so identical
+// FabricSpec + PrecomputeSettings + the method's asset-format version, so identical
 // requests share one computation.
 //
 // Canonical form: defaults applied (core/spec/defaults.h), cosmetic names cleared,
+// the settings the method ignores cleared (FabricMethod::KeySettings),
 // printed as protobuf JSON with every field present, then re-serialised with keys
 // sorted and no whitespace. It does not depend on the field order of the input file
 // or on which of two equal spellings (omitted vs explicit default) was used.
@@ -16,7 +17,7 @@
 
 namespace loom {
 
-// Bumped whenever the asset layout or the meaning of a fitted parameter changes
+// svbrdf's asset format (FabricMethod::asset_format_version). Bumped whenever the asset layout or the meaning of a fitted parameter changes
 // (2: 32-bit lobe coefficients and frame in half-float assets; the shortened LUT step;
 // 3: lobes peaking above ten times the energy-conserving peak are refitted with fewer;
 // 4: acquisition's rays on one grid over the tile whatever the resolution, and a mip

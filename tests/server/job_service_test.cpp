@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "core/fit/fabric_asset.h"
+#include "core/methods/fabric_method.h"
 #include "core/plan/precompute_plan.h"
 #include "core/image/image.h"
 #include "core/render/scene_render.h"
@@ -164,7 +165,7 @@ TEST_F(AliveServiceTest, AWorkerMarksItselfAliveFromItsLoopThroughAPrecomputeAnd
   const auto waiting = position("waiting for work");
   const auto precompute_started = position("job " + precompute + ": precompute");
   const auto acquisition = position("job " + precompute + ": acquisition");
-  const auto fit = position("job " + precompute + ": fit");
+  const auto fit = position("job " + precompute + ": svbrdf");
   const auto render_started = position("job " + render + ": render");
   const std::string all = ::testing::PrintToString(states);
   ASSERT_LT(render_started, std::ssize(states)) << all;  // every state was found, in this order:
@@ -221,7 +222,7 @@ TEST_F(ServiceTest, ProgressReachesWatchersAtEveryStageWithoutWaitingForHeartbea
   });
   EXPECT_EQ(last.job().state(), v1::JOB_STATE_SUCCEEDED);
   EXPECT_TRUE(running_stages.contains("acquisition")) << ::testing::PrintToString(running_stages);
-  EXPECT_TRUE(running_stages.contains("fit")) << ::testing::PrintToString(running_stages);
+  EXPECT_TRUE(running_stages.contains("svbrdf")) << ::testing::PrintToString(running_stages);
   EXPECT_EQ(last.job().progress().stage(), "done");
   EXPECT_EQ(last.job().progress().fraction(), 1.0);
 }
@@ -263,11 +264,11 @@ TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
   const auto asset = data_dir_ / "asset-copy";
   const std::string key = FabricKey(KnitFabric(), TinySettings());
   client.DownloadFabric(key, asset);
-  const FittedFabric fit = ReadFabricAsset(asset);
+  const std::unique_ptr<FabricAsset> fit = ReadAnyFabricAsset(asset);
   const v1::SceneSpec full = WithDefaults(scene);
   const auto context = gl::EglContext::Create();
-  SvbrdfRenderer renderer(*context);
-  const Image core = RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, &fit}}).image;
+  GpuRenderer renderer(*context);
+  const Image core = RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, fit.get()}}).image;
   const auto core_path = data_dir_ / "core.exr";
   WriteImage(core, core_path);  // the same half-float quantisation as the served frame
   const Image expected = ReadImage(core_path);

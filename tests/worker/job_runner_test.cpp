@@ -35,11 +35,11 @@ TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
   EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
   EXPECT_DOUBLE_EQ(last_fraction, 1.0);
 
-  const FittedFabric fit = runner.ReadAsset(files);
+  const std::unique_ptr<FabricAsset> asset = runner.ReadAsset(files);
   v1::RenderJob render;
   *render.mutable_scene() = server::TinyScene(40, 30);
   render.mutable_scene()->mutable_render()->clear_format();  // unspecified: PNG
-  const NamedFile frame = runner.Render(render, FileMeshResolver("."), {{key, &fit}});
+  const NamedFile frame = runner.Render(render, FileMeshResolver("."), {{key, asset.get()}});
   EXPECT_EQ(frame.name, "frame.png");
   const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + ".png");
   WriteFileAtomic(path, frame.bytes);

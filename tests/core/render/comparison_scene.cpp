@@ -9,7 +9,8 @@
 #include "core/precompute/fabric_precompute.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
-#include "core/render/svbrdf_renderer.h"
+#include "core/methods/svbrdf/svbrdf_method.h"
+#include "core/render/gpu_renderer.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
@@ -52,23 +53,26 @@ v1::SceneSpec MakeComparisonScene(const ComparisonOptions& o) {
   return scene;
 }
 
-const FittedFabric& FitOf(const v1::FabricBinding& binding) {
-  static std::map<std::string, std::unique_ptr<FittedFabric>> cache;
-  auto& fit = cache[FabricKey(binding.fabric(), binding.precompute())];
-  if (!fit) fit = std::make_unique<FittedFabric>(PrecomputeFabric(binding.fabric(), binding.precompute()));
-  return *fit;
+// Each distinct fabric fitted once per test binary.
+const SvbrdfAsset& AssetOf(const v1::FabricBinding& binding) {
+  static std::map<std::string, std::unique_ptr<SvbrdfAsset>> cache;
+  auto& asset = cache[FabricKey(binding.fabric(), binding.precompute())];
+  if (!asset) asset = std::make_unique<SvbrdfAsset>(PrecomputeFabric(binding.fabric(), binding.precompute()));
+  return *asset;
 }
+
+const FittedFabric& FitOf(const v1::FabricBinding& binding) { return AssetOf(binding).fit(); }
 
 Image RenderSvbrdf(const v1::SceneSpec& scene, const MeshTextResolver& resolve) {
   static const auto context = gl::EglContext::Create();
-  static SvbrdfRenderer renderer(*context);
+  static GpuRenderer renderer(*context);
   const auto meshes = BuildSceneGeometry(scene, resolve);
-  FittedFabrics fits;
+  FabricAssets assets;
   for (const v1::SceneObject& object : scene.objects()) {
     if (!object.has_fabric()) continue;
-    fits[FabricKey(object.fabric().fabric(), object.fabric().precompute())] = &FitOf(object.fabric());
+    assets[FabricKey(object.fabric().fabric(), object.fabric().precompute())] = &AssetOf(object.fabric());
   }
-  return RenderScene(renderer, scene, meshes, fits).image;
+  return RenderScene(renderer, scene, meshes, assets).image;
 }
 
 Image RenderReference(const v1::SceneSpec& scene, const MeshTextResolver& resolve) {

@@ -8,7 +8,8 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/fit/fabric_fit.h"
-#include "core/render/svbrdf_renderer.h"
+#include "core/render/fabric_textures.h"
+#include "core/render/gpu_renderer.h"
 #include "core/scene/camera.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
@@ -67,7 +68,7 @@ void ExpectRenderMatchesAnalyticBrdf(glm::vec3 normal) {
     "render": {"width": 96, "height": 64, "msaa_samples": 1}})", "scene"));
   ValidateOrThrow(scene);
   const auto context = gl::EglContext::Create();
-  SvbrdfRenderer renderer(*context);
+  GpuRenderer renderer(*context);
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
   FabricTextures textures(FabricTextureData::FromFit(fit), /*half=*/false);
   // Every texel holds the same BRDF, so bilinear texels must shade as nearest ones do.

@@ -1,4 +1,4 @@
-#include "core/render/svbrdf_renderer.h"
+#include "core/render/gpu_renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/gl/framebuffer.h"
+#include "core/render/fabric_textures.h"
 
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
@@ -21,7 +22,7 @@ RenderedFrame RenderJson(const std::string& json) {
   const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
   ValidateOrThrow(scene);
   static const auto context = gl::EglContext::Create();
-  static SvbrdfRenderer renderer(*context);
+  static GpuRenderer renderer(*context);
   return renderer.Render(scene, BuildSceneGeometry(scene, FileMeshResolver(".")), {});
 }
 
@@ -36,7 +37,7 @@ std::string PlaneScene(const std::string& extra_objects, const std::string& ligh
     "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) + "}}";
 }
 
-TEST(SvbrdfRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrradiance) {
+TEST(GpuRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrradiance) {
   const RenderedFrame frame = RenderJson(PlaneScene("",
       R"({"type": "LIGHT_TYPE_DIRECTIONAL", "direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2.5})"));
   const glm::vec3 albedo(0.6f, 0.3f, 0.15f);
@@ -52,7 +53,7 @@ TEST(SvbrdfRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrradian
 
 // The renderer keeps its target between frames of one size: a second frame into it
 // is cleared and drawn alike, and timed.
-TEST(SvbrdfRenderer, ASecondFrameIntoTheKeptTargetIsTheSameAndTimed) {
+TEST(GpuRenderer, ASecondFrameIntoTheKeptTargetIsTheSameAndTimed) {
   const std::string scene = PlaneScene("", R"({"direction": {"x": 0.3, "y": 0.2, "z": 1}, "intensity": 2})");
   const RenderedFrame first = RenderJson(scene);
   const RenderedFrame second = RenderJson(scene);
@@ -61,14 +62,14 @@ TEST(SvbrdfRenderer, ASecondFrameIntoTheKeptTargetIsTheSameAndTimed) {
   EXPECT_EQ(first.image.pixels, second.image.pixels);
 }
 
-TEST(SvbrdfRenderer, ObliqueLightFollowsTheCosine) {
+TEST(GpuRenderer, ObliqueLightFollowsTheCosine) {
   // 60° from the normal: cos = 0.5.
   const RenderedFrame frame = RenderJson(PlaneScene("",
       R"({"direction": {"x": 0.8660254, "y": 0, "z": 0.5}, "intensity": 1})"));
   EXPECT_NEAR(frame.image.at(32, 32, 0), 0.6f / glm::pi<float>() * 0.5f, 1e-5f);
 }
 
-TEST(SvbrdfRenderer, PointLightFallsOffWithTheSquareOfDistance) {
+TEST(GpuRenderer, PointLightFallsOffWithTheSquareOfDistance) {
   const RenderedFrame frame = RenderJson(PlaneScene("",
       R"({"type": "LIGHT_TYPE_POINT", "position": {"x": 0, "y": 0, "z": 2}, "intensity": 8})"));
   // Below the light (pixel centre (31.5, 31.5) is 1/64 off the axis: within 1e-3 relative).
@@ -78,7 +79,7 @@ TEST(SvbrdfRenderer, PointLightFallsOffWithTheSquareOfDistance) {
   EXPECT_NEAR(frame.image.at(63, 0, 0), 0.6f / glm::pi<float>() * 8.0f / d2 * (2.0f / std::sqrt(d2)), 1e-4f);
 }
 
-TEST(SvbrdfRenderer, ASphereShadowsThePlaneBelowIt) {
+TEST(GpuRenderer, ASphereShadowsThePlaneBelowIt) {
   const std::string sphere = R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE"},
       "transform": {"translation": {"x": 0.5, "y": 0.5, "z": 1}, "scale": {"x": 0.2, "y": 0.2, "z": 0.2}}})";
   // Light from 14° off the zenith towards -x: the sphere at (0.5, 0.5, 1) shadows the
@@ -95,7 +96,7 @@ TEST(SvbrdfRenderer, ASphereShadowsThePlaneBelowIt) {
   EXPECT_NEAR(unshadowed.image.at(56, 16, 0), lit, 1e-4f);
 }
 
-TEST(SvbrdfRenderer, MsaaAveragesEdgesAgainstTheBackground) {
+TEST(GpuRenderer, MsaaAveragesEdgesAgainstTheBackground) {
   const std::string scene = R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "base_colour": {"r": 1, "g": 1, "b": 1}}],
     "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2, "position": {"x": 0.01, "y": 0.013, "z": 5},
                "target": {"x": 0.01, "y": 0.013, "z": 0}, "up": {"x": 0.3, "y": 1, "z": 0}},
@@ -112,7 +113,7 @@ TEST(SvbrdfRenderer, MsaaAveragesEdgesAgainstTheBackground) {
   EXPECT_GT(partial, 20);
 }
 
-TEST(SvbrdfRenderer, MsaaBeyondTheGlLimitRendersAtTheLimit) {
+TEST(GpuRenderer, MsaaBeyondTheGlLimitRendersAtTheLimit) {
   // Validation allows 16 samples (a GPU's count); llvmpipe's float target stops at
   // 4, where 8 or 16 used to leave the framebuffer incomplete and the render failed.
   const auto scene = [](int msaa) {
@@ -180,10 +181,10 @@ RenderedFrame RenderCloth(const std::string& json, const FabricTextureData& data
   const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(json, "scene"));
   ValidateOrThrow(scene);
   static const auto context = gl::EglContext::Create();
-  static SvbrdfRenderer renderer(*context);
+  static GpuRenderer renderer(*context);
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
   FabricTextures textures(data, /*half=*/false);
-  std::vector<const FabricTextures*> fabrics(meshes.size(), nullptr);
+  std::vector<const GpuFabric*> fabrics(meshes.size(), nullptr);
   for (size_t i = 0; i < meshes.size(); ++i) {
     if (meshes[i].object->has_fabric()) fabrics[i] = &textures;
   }

@@ -1,36 +1,28 @@
-// A fitted fabric on the GPU (layout: core/render/fabric_textures.h), evaluated per
-// fragment: the texel from the tile coordinate, the level from its screen
-// footprint, T(v) and alpha from the lookup table, f_1 from the lobes — the whole
-// BRDF of Daubert 2001 eq. 1–2 in the shader, with the paper's two mappings:
-// world → surface frame (mesh normal, tangent along +u), then surface → texel frame
-// (the texel's fitted normal and tangent). The surface frame is the tile's frame:
-// tile x along u, y along v, z along the normal.
+// What every fabric method's cloth shading shares (core/methods/fabric_method.h):
+// the cloth's frame, the tile coordinate where a ray meets the sampled face, the
+// level from the screen footprint, the fragment's view and lights gathered once, and
+// the view atlas every method's asset has: per level (mip ℓ = level ℓ), a
+// (res_ℓ·k)² texture of one k×k block of views per texel, the method's rgb and the
+// coverage alpha, interpolated bilinearly between stored views. The surface frame
+// is the tile's frame: tile x along u, y along v, z along the normal.
+//
+// A method's shader defines LOOM_FABRIC_LIGHT_GRID before including this file when
+// it stores lights on a grid too. Derivations: docs/methods.md.
 
 #include "hemisphere_map.glsl"
-#include "lafortune.glsl"
 #include "lights.glsl"
 
-uniform sampler2DArray u_fabric_params;  // mip ℓ = fitted level ℓ
-uniform sampler2D u_fabric_lut;          // mip ℓ: (res_ℓ·k)² atlas of k×k view blocks
-uniform int u_fabric_lobes;
+uniform sampler2D u_fabric_views;        // mip ℓ: (res_ℓ·k)² atlas of k×k view blocks
 uniform int u_fabric_levels;
 uniform int u_fabric_resolution;         // level-0 texels per tile side
-uniform int u_fabric_view_side;          // k: the LUT's view grid is k×k
+uniform int u_fabric_view_side;          // k: the view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
 uniform float u_fabric_sampling_height;  // tile z of the face the texels were sampled on
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
 uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
-
-// A texel of one level; its frame is in tile (= surface) space.
-struct FabricTexel {
-  LafortuneBrdf brdf;
-  vec3 normal;
-  vec3 tangent;
-  vec3 bitangent;
-  vec4 lut;  // T(v).rgb, alpha(v)
-};
-
-vec3 ToTexelFrame(FabricTexel t, vec3 d) { return vec3(dot(t.tangent, d), dot(t.bitangent, d), dot(t.normal, d)); }
+#ifdef LOOM_FABRIC_LIGHT_GRID
+uniform int u_fabric_light_side;         // the light grid is k_l×k_l
+#endif
 
 // The mesh's frame at a fragment as columns (tangent along +u, bitangent, normal),
 // turned towards the side it is seen from: cloth is lit and seen from either side,
@@ -48,7 +40,7 @@ int FabricResolution(int level) { return max(u_fabric_resolution >> level, 1); }
 
 // What every shading of a fragment shares, gathered once however many texels the
 // fragment shades (two levels; four texels a level with bilinear texels; N points
-// with anisotropic levels): the view, where it falls in the lookup table's view
+// with anisotropic levels): the view, where it falls in the view atlas's
 // grid, and each light's direction and irradiance times its visibility. The shadow
 // map's nine taps per light and the view's grid position (an atan) were the
 // dearest parts of a shading, and none of it depends on the texel.
@@ -59,24 +51,34 @@ struct FabricFragment {
   vec3 light_direction[kMaxLights];   // unit, surface frame
   vec3 light_irradiance[kMaxLights];  // times the light's visibility
   vec3 ambient;
+#ifdef LOOM_FABRIC_LIGHT_GRID
+  // For methods that store lights on a grid (u_fabric_light_side): where each light
+  // falls in it, clamped, and its weight: 0 below the horizon, fading from 1 at the
+  // outermost stored ring to 0 at the horizon (radiance there holds cos θ_l → 0).
+  vec2 light_grid[kMaxLights];
+  float light_weight[kMaxLights];
+#endif
 };
 
-// Where a direction (unit, surface frame) falls in the lookup table's k×k view grid,
-// clamped to it, and how far past the outermost stored ring it lies, [0, 1].
-// T(v) is bilinear between the stored views (acquisition's views, in tile space)
+// Where a direction (unit, surface frame) falls in a k×k hemisphere grid, clamped
+// to it, and how far past the outermost stored ring it lies, [0, 1]. A view atlas
+// value is bilinear between the stored views (acquisition's views, in tile space)
 // inside a texel's k×k block; the clamp keeps the filter from reading a neighbour.
-// Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
+void LocateOnGrid(vec3 direction, float k, out vec2 grid, out float beyond_ring) {
+  vec2 unclamped = HemisphereGridCoordinates(direction, k);
+  grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
+  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
+  beyond_ring = clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0);
+}
+
+// Where a view falls in the view atlas's k×k grid. Coverage between the outermost stored ring of views (grid 0 or k − 1) and the
 // horizon (−½ or k − ½): a yarn layer of any thickness hides its holes as the view
 // nears the horizon (a gap g between yarns of height h closes at tan θ = g/h), so
 // alpha is 1 there; it is interpolated towards 1 instead of held at the last
 // ring's value, which let a loose weave at 85° show holes the reference does not
 // (docs/stability.md).
 void LocateFabricView(vec3 direction, out vec2 grid, out float beyond_ring) {
-  float k = float(u_fabric_view_side);
-  vec2 unclamped = HemisphereGridCoordinates(direction, k);
-  grid = clamp(unclamped, vec2(0.0), vec2(k - 1.0));
-  vec2 beyond = max(-unclamped, unclamped - (k - 1.0));
-  beyond_ring = clamp(2.0 * max(beyond.x, beyond.y), 0.0, 1.0);
+  LocateOnGrid(direction, float(u_fabric_view_side), grid, beyond_ring);
 }
 
 FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, vec3 normal, vec3 ambient) {
@@ -88,44 +90,29 @@ FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, v
     vec3 irradiance;
     fragment.light_direction[i] = to_surface * LightDirection(i, position, irradiance);
     fragment.light_irradiance[i] = irradiance * LightVisibility(i, position, normal);
+#ifdef LOOM_FABRIC_LIGHT_GRID
+    float beyond_ring;
+    LocateOnGrid(fragment.light_direction[i], float(u_fabric_light_side), fragment.light_grid[i], beyond_ring);
+    fragment.light_weight[i] = fragment.light_direction[i].z > 0.0 ? 1.0 - beyond_ring : 0.0;
+#endif
   }
   return fragment;
 }
 
-// T(v).rgb and alpha(v) of texel `texel` of `level` for a view at `view_grid`.
-vec4 FetchFabricLut(ivec2 texel, int level, vec2 view_grid, float beyond_ring) {
+// The view atlas's value (the method's rgb, coverage alpha) of texel `texel` of
+// `level` for a view at `view_grid`.
+vec4 FetchFabricView(ivec2 texel, int level, vec2 view_grid, float beyond_ring) {
   float k = float(u_fabric_view_side);
   vec2 atlas = (vec2(texel) * k + view_grid + 0.5) / (float(FabricResolution(level)) * k);
-  vec4 lut = textureLod(u_fabric_lut, atlas, float(level));
-  lut.a = mix(lut.a, 1.0, beyond_ring);
-  return lut;
+  vec4 value = textureLod(u_fabric_views, atlas, float(level));
+  value.a = mix(value.a, 1.0, beyond_ring);
+  return value;
 }
 
 // The texel of `level` that `tile` falls in (the paper's lookup).
 ivec2 FabricTexelAt(vec2 tile, int level) {
   int resolution = FabricResolution(level);
   return min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
-}
-
-// Texel `texel` of `level`, its T and alpha for the fragment's view.
-FabricTexel FetchFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
-  FabricTexel t;
-  t.brdf.rho = texelFetch(u_fabric_params, ivec3(texel, 0), level).rgb;
-  t.normal = texelFetch(u_fabric_params, ivec3(texel, 1), level).xyz;
-  t.tangent = texelFetch(u_fabric_params, ivec3(texel, 2), level).xyz;
-  t.bitangent = cross(t.normal, t.tangent);
-  // Only the fabric's lobes: EvaluateLafortune reads no others.
-  for (int i = 0; i < u_fabric_lobes; ++i) {
-    vec4 x = texelFetch(u_fabric_params, ivec3(texel, 3 + 3 * i), level);
-    vec4 y = texelFetch(u_fabric_params, ivec3(texel, 4 + 3 * i), level);
-    vec4 z = texelFetch(u_fabric_params, ivec3(texel, 5 + 3 * i), level);
-    t.brdf.cx[i] = x.rgb;
-    t.brdf.cy[i] = y.rgb;
-    t.brdf.cz[i] = z.rgb;
-    t.brdf.n[i] = vec3(x.a, y.a, z.a);
-  }
-  t.lut = FetchFabricLut(texel, level, fragment.view_grid, fragment.beyond_ring);
-  return t;
 }
 
 // The continuous level λ from the screen footprint of the tile coordinate, in
@@ -176,51 +163,6 @@ FabricFootprint FabricLevels(vec2 tile) {
   return f;
 }
 
-// Radiance (rgb) and coverage alpha of one texel of the fragment.
-vec4 ShadeFabricTexel(FabricTexel t, FabricFragment fragment) {
-  vec3 v = ToTexelFrame(t, fragment.view);
-  // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
-  vec3 radiance = fragment.ambient * kPi * t.brdf.rho;
-  for (int i = 0; i < u_light_count; ++i) {
-    vec3 l = ToTexelFrame(t, fragment.light_direction[i]);
-    radiance += fragment.light_irradiance[i] * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v);
-  }
-  return vec4(t.lut.rgb * radiance, t.lut.a);
-}
-
-// One level at `tile`: the texel it falls in (the paper's lookup), or with
-// LOOM_BILINEAR_TEXELS the four texels around it, their shadings blended bilinearly
-// across the tile's periodic edges. Blending shadings, not parameters: a mean of
-// lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
-// bench set, blending the shadings +1.6 dB). The 1×1 level takes the same path (its
-// four taps are the one texel, weights summing to 1): a branch for it cost llvmpipe,
-// which runs both sides of a branch, a fifth shading on every level (1080p bench
-// cloth 712 → 631 ms without it).
-vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
-#ifdef LOOM_BILINEAR_TEXELS
-  int resolution = FabricResolution(level);
-  vec2 at = fract(tile) * float(resolution) - 0.5;
-  vec2 corner = floor(at), weight = at - corner;
-  vec4 result = vec4(0.0);
-  for (int i = 0; i < 4; ++i) {
-    ivec2 offset = ivec2(i & 1, i >> 1);
-    ivec2 texel = (ivec2(corner) + offset + resolution) % resolution;
-    vec2 w = mix(1.0 - weight, weight, vec2(offset));
-    result += w.x * w.y * ShadeFabricTexel(FetchFabricTexel(texel, level, fragment), fragment);
-  }
-  return result;
-#else
-  return ShadeFabricTexel(FetchFabricTexel(FabricTexelAt(tile, level), level, fragment), fragment);
-#endif
-}
-
-// The footprint's one or two levels at `tile`, blended.
-vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, FabricFragment fragment) {
-  vec4 result = ShadeFabricLevel(tile, f.level0, fragment);
-  if (f.blend > 0.0) result = mix(result, ShadeFabricLevel(tile, f.level1, fragment), f.blend);
-  return result;
-}
-
 // The tile coordinate where a ray from `direction` (unit, surface frame) meets the
 // fabric at mesh uv `uv`. Acquisition sampled texels on the tile's top face, above
 // the macro surface (tile z = 0) by the sampling height: look the texel up where the
@@ -231,38 +173,16 @@ vec2 FabricTile(vec2 uv, vec3 direction) {
   return uv * u_fabric_repeat + direction.xy / max(direction.z, 0.1) * u_fabric_sampling_height;
 }
 
-// The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
-// (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
-// is the unit world direction to the eye.
-vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitangent, vec3 towards_viewer,
-                 vec3 ambient) {
-  mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
-  vec3 view = to_surface * towards_viewer;
-  vec2 tile = FabricTile(uv, view);
-  // The footprint comes first: derivatives are undefined inside the loop.
-  FabricFootprint f = FabricLevels(tile);
-  FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
-#ifdef LOOM_ANISOTROPIC_LEVELS
-  vec4 result = vec4(0.0);
-  for (int i = 0; i < f.samples; ++i) {
-    vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
-    result += ShadeFabricLevels(at, f, fragment);
-  }
-  return result / float(f.samples);
-#else
-  return ShadeFabricLevels(tile, f, fragment);
-#endif
-}
-
 // The fraction of the light arriving from `towards_light` (unit, surface frame)
-// that the cloth at `tile` stops: its coverage alpha for that direction — acquisition's
+// that the cloth at `tile` stops: its coverage alpha for that direction (the view
+// atlas's alpha, whatever the method) — acquisition's
 // fraction of a texel's rays from there that hit yarn — at the footprint's levels,
 // blended. The shadow pass (shadow_cloth.frag) lets the rest through the holes.
 float FabricCoverage(vec2 tile, FabricFootprint f, vec3 towards_light) {
   vec2 grid;
   float beyond_ring;
   LocateFabricView(towards_light, grid, beyond_ring);
-  float coarse = FetchFabricLut(FabricTexelAt(tile, f.level1), f.level1, grid, beyond_ring).a;
-  float fine = FetchFabricLut(FabricTexelAt(tile, f.level0), f.level0, grid, beyond_ring).a;
+  float coarse = FetchFabricView(FabricTexelAt(tile, f.level1), f.level1, grid, beyond_ring).a;
+  float fine = FetchFabricView(FabricTexelAt(tile, f.level0), f.level0, grid, beyond_ring).a;
   return mix(fine, coarse, f.blend);
 }

@@ -1,7 +1,7 @@
-#include "core/render/svbrdf_renderer.h"
+#include "core/render/gpu_renderer.h"
 
 #include <algorithm>
-#include <initializer_list>
+#include <span>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -25,7 +25,7 @@ SceneBounds BoundsOf(const std::vector<SceneMesh>& meshes) {
 
 // Mesh indices in drawing order: objects without a fabric, then cloth from the
 // farthest (bounding-box centre from the eye) to the nearest.
-std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::vector<const FabricTextures*>& fabrics,
+std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::vector<const GpuFabric*>& fabrics,
                               glm::vec3 eye) {
   std::vector<size_t> opaque, cloth;
   for (size_t i = 0; i < meshes.size(); ++i) (i < fabrics.size() && fabrics[i] ? cloth : opaque).push_back(i);
@@ -40,9 +40,9 @@ std::vector<size_t> DrawOrder(const std::vector<SceneMesh>& meshes, const std::v
   return opaque;
 }
 
-// Texture units: the shadow maps and a fabric's two textures. Samplers of
-// different types may not share a unit in a draw, even when a branch leaves one
-// unused, so the fabric units are fixed once.
+// Texture units: the shadow maps, then a fabric's textures (GpuFabric::Bind).
+// Samplers of different types may not share a unit in a draw, even when a branch
+// leaves one unused, so the fabric units are fixed once.
 constexpr int kShadowUnit = 0;
 constexpr int kFabricUnit = 1;
 
@@ -58,7 +58,7 @@ std::string Indexed(const char* name, int i) { return std::string(name) + "[" + 
 void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
                  const std::vector<const gl::MeshBuffer*>& opaque_casters,
                  const std::vector<ShadowMaps::ClothCaster>& cloth_casters, ShadowMaps& shadows,
-                 std::initializer_list<const gl::ShaderProgram*> programs) {
+                 const std::vector<const gl::ShaderProgram*>& programs) {
   std::vector<glm::vec3> shadow_directions;
   const int count = std::min(scene.lights_size(), kMaxLights);
   for (int i = 0; i < count; ++i) {
@@ -97,14 +97,6 @@ int MsaaSamples(const v1::RenderSettings& settings) {
   return limit;
 }
 
-// The cloth program (or one of its variants) with its texture units fixed.
-gl::ShaderProgram ClothProgram(std::string_view defines = {}) {
-  gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "cloth.frag", defines);
-  program.Set("u_shadow_maps", kShadowUnit);
-  program.Set("u_fabric_params", kFabricUnit);
-  program.Set("u_fabric_lut", kFabricUnit + 1);
-  return program;
-}
 
 gl::ShaderProgram OpaqueProgram() {
   gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag");
@@ -114,28 +106,37 @@ gl::ShaderProgram OpaqueProgram() {
 
 }  // namespace
 
-SvbrdfRenderer::SvbrdfRenderer(gl::EglContext& context)
-    : context_(context),
-      cloth_program_((context.MakeCurrent(), ClothProgram())),
-      opaque_program_(OpaqueProgram()) {}
+GpuRenderer::GpuRenderer(gl::EglContext& context)
+    : context_(context), opaque_program_((context.MakeCurrent(), OpaqueProgram())) {}
 
-gl::ShaderProgram& SvbrdfRenderer::ClothProgramFor(const v1::RenderSettings& settings) {
+gl::ShaderProgram& GpuRenderer::ClothProgramFor(const FabricMethod& method, const v1::RenderSettings& settings) {
   std::string defines;
   if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
   if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
-  if (defines.empty()) return cloth_program_;
-  auto found = cloth_variants_.find(defines);
-  if (found == cloth_variants_.end()) found = cloth_variants_.emplace(defines, ClothProgram(defines)).first;
+  const std::string key = std::string(method.cloth_shader()) + "\n" + defines;
+  auto found = cloth_programs_.find(key);
+  if (found == cloth_programs_.end()) {
+    gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", method.cloth_shader(), defines);
+    program.Set("u_shadow_maps", kShadowUnit);
+    found = cloth_programs_.emplace(key, std::move(program)).first;
+  }
   return found->second;
 }
 
-RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
-                                     const std::vector<const FabricTextures*>& fabrics) {
+RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                                  const std::vector<const GpuFabric*>& fabrics) {
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
-  const gl::ShaderProgram& cloth = ClothProgramFor(settings);
-  const std::initializer_list<const gl::ShaderProgram*> programs = {&cloth, &opaque_program_};
+  // Each object's cloth program, and every program of the frame once.
+  std::vector<const gl::ShaderProgram*> cloth(meshes.size(), nullptr);
+  std::vector<const gl::ShaderProgram*> programs = {&opaque_program_};
+  for (size_t i = 0; i < meshes.size() && i < fabrics.size(); ++i) {
+    if (fabrics[i] == nullptr) continue;
+    cloth[i] = &ClothProgramFor(fabrics[i]->method(), settings);
+    if (std::find(programs.begin(), programs.end(), cloth[i]) == programs.end()) programs.push_back(cloth[i]);
+  }
+  const auto cloth_programs = std::span(programs).subspan(1);
   const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
     shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
@@ -146,7 +147,7 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   std::vector<ShadowMaps::ClothCaster> cloth_casters;
   for (size_t i = 0; i < meshes.size(); ++i) {
     buffers.push_back(std::make_unique<gl::MeshBuffer>(meshes[i].mesh));
-    const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
+    const GpuFabric* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
     if (fabric == nullptr) {
       opaque_casters.push_back(buffers.back().get());
     } else {
@@ -178,11 +179,13 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
     program->Set("u_view_projection", camera.projection * camera.view);
     program->Set("u_ambient", ToGlm(scene.ambient()));
   }
-  cloth.Set("u_eye", camera.position);
-  cloth.Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
-  cloth.Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
-  cloth.Set("u_level_mode", static_cast<int>(settings.level_mode()));
-  cloth.Set("u_lod_bias", settings.lod_bias());
+  for (const gl::ShaderProgram* program : cloth_programs) {
+    program->Set("u_eye", camera.position);
+    program->Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
+    program->Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
+    program->Set("u_level_mode", static_cast<int>(settings.level_mode()));
+    program->Set("u_lod_bias", settings.lod_bias());
+  }
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
@@ -190,12 +193,12 @@ RenderedFrame SvbrdfRenderer::Render(const v1::SceneSpec& scene, const std::vect
   // Only a cloth seen through its own holes (a fold) depends on triangle order.
   for (const size_t i : DrawOrder(meshes, fabrics, camera.position)) {
     const v1::SceneObject& object = *meshes[i].object;
-    const FabricTextures* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
+    const GpuFabric* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
     if (fabric != nullptr) {
-      cloth.Use();
+      cloth[i]->Use();
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      fabric->Bind(cloth, kFabricUnit, FabricRepeat(object));
+      fabric->Bind(*cloth[i], kFabricUnit, FabricRepeat(object));
     } else {
       opaque_program_.Use();
       opaque_program_.Set("u_base_colour", ToGlm(object.base_colour()));

@@ -1,9 +1,10 @@
 #pragma once
-// The `svbrdf` frame renderer (DESIGN.md "Renderers"): rasterises a scene with
-// OpenGL 4.5 core through EGL — the same code on an NVIDIA GPU and on llvmpipe —
-// with macro-scale shadow maps and MSAA. Cloth is shaded per fragment from its
-// fitted BRDF array (core/shaders/cloth.frag, fabric.glsl); objects without a
-// fabric are Lambertian in their base colour (opaque.frag), a program of their own.
+// The GPU frame renderer (DESIGN.md "Renderers"; render method RENDER_METHOD_SVBRDF):
+// rasterises a scene with OpenGL 4.5 core through EGL — the same code on an NVIDIA
+// GPU and on llvmpipe — with macro-scale shadow maps and MSAA. Cloth is shaded per
+// fragment by its fabric's method (core/methods/fabric_method.h: the method's cloth
+// program, core/shaders/cloth.glsl); objects without a fabric are Lambertian in
+// their base colour (opaque.frag), a program of their own.
 //
 // Light units: a directional light's colour × intensity is the irradiance it brings
 // at normal incidence; a point light's is its intensity (irradiance = I / d²);
@@ -18,7 +19,7 @@
 #include "core/gl/framebuffer.h"
 #include "core/gl/shader_program.h"
 #include "core/image/image.h"
-#include "core/render/fabric_textures.h"
+#include "core/methods/fabric_method.h"
 #include "core/render/shadow_maps.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/scene.pb.h"
@@ -31,26 +32,27 @@ struct RenderedFrame {
   double gpu_ms = 0.0;  // GPU time of the shadow and main passes (GL timestamps)
 };
 
-class SvbrdfRenderer {
+class GpuRenderer {
  public:
   // Compiles the programs once; a worker keeps one renderer for every frame.
-  explicit SvbrdfRenderer(gl::EglContext& context);
+  explicit GpuRenderer(gl::EglContext& context);
 
   // `scene` with defaults applied and validated; `meshes` = BuildSceneGeometry(scene);
-  // `fabrics[i]` the fitted fabric of meshes[i], or null for a plain object.
+  // `fabrics[i]` the fabric of meshes[i] on this context's GPU, or null for a plain
+  // object; objects may differ in method.
   RenderedFrame Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
-                       const std::vector<const FabricTextures*>& fabrics);
+                       const std::vector<const GpuFabric*>& fabrics);
 
  private:
-  // The cloth program for the scene's level mode and texel filter. Anisotropic
-  // levels and bilinear texels are compiles of their own (core/shaders/fabric.glsl:
-  // llvmpipe runs both sides of a branch, even on a uniform), each made the first
-  // time a scene asks for it, keyed by its defines.
-  gl::ShaderProgram& ClothProgramFor(const v1::RenderSettings& settings);
+  // The cloth program of `method` for the scene's level mode and texel filter.
+  // Anisotropic levels and bilinear texels are compiles of their own
+  // (core/shaders/cloth.glsl: llvmpipe runs both sides of a branch, even on a
+  // uniform), each made the first time a scene asks for it, keyed by its shader and
+  // defines.
+  gl::ShaderProgram& ClothProgramFor(const FabricMethod& method, const v1::RenderSettings& settings);
 
   gl::EglContext& context_;
-  gl::ShaderProgram cloth_program_;                          // the defaults: no defines
-  std::map<std::string, gl::ShaderProgram> cloth_variants_;  // by defines
+  std::map<std::string, gl::ShaderProgram> cloth_programs_;  // by shader and defines
   gl::ShaderProgram opaque_program_;  // objects without a fabric (core/shaders/opaque.frag)
   // Kept from frame to frame while the size and sample count stay: allocating the
   // multisampled float target (about 200 MB at 1080p) cost llvmpipe ~50 ms a frame.

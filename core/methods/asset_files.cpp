@@ -1,0 +1,145 @@
+#include "core/methods/asset_files.h"
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+
+#include "core/image/exr_header.h"
+#include "core/spec/limits.h"
+#include "core/util/file_io.h"
+#include "core/util/sha256.h"
+
+namespace loom {
+
+namespace OIIO = OIIO_NAMESPACE;
+using nlohmann::json;
+
+std::string WriteLevelImage(const LevelImage& image, const std::filesystem::path& path, bool half) {
+  const std::filesystem::path temp =
+      path.parent_path() / (path.stem().string() + ".tmp-" + std::to_string(::getpid()) + ".exr");
+  std::vector<int> sides = image.sides;
+  std::vector<std::vector<float>> pixels = image.pixels;
+  const int channels = static_cast<int>(image.channel_names.size());
+  const bool mip = sides.size() > 1;
+  while (mip && sides.back() > 1) {
+    const int from = sides.back(), to = from / 2;
+    std::vector<float> next(size_t(to) * to * channels);
+    for (int y = 0; y < to; ++y) {
+      for (int x = 0; x < to; ++x) {
+        std::copy_n(&pixels.back()[(size_t(2 * y) * from + 2 * x) * channels], channels,
+                    &next[(size_t(y) * to + x) * channels]);
+      }
+    }
+    sides.push_back(to);
+    pixels.push_back(std::move(next));
+  }
+
+  auto out = OIIO::ImageOutput::create(temp.string());
+  if (!out) throw Error(ErrorCode::kInternal, "cannot create an OpenEXR writer: " + OIIO::geterror());
+  for (size_t j = 0; j < sides.size(); ++j) {
+    OIIO::ImageSpec spec(sides[j], sides[j], channels, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    spec.channelnames = image.channel_names;
+    if (half && std::find(image.keep_float.begin(), image.keep_float.end(), true) != image.keep_float.end()) {
+      spec.format = OIIO::TypeDesc::FLOAT;  // OpenImageIO: the widest of the channel formats
+      for (int c = 0; c < channels; ++c) {
+        spec.channelformats.push_back(image.keep_float[c] ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
+      }
+    }
+    spec.attribute("compression", "zip");
+    if (mip) {
+      spec.tile_width = spec.tile_height = 32;
+      spec.attribute("textureformat", "Plain Texture");  // OpenImageIO: MIP levels only for textures
+      spec.attribute("openexr:roundingmode", 0);          // ROUND_DOWN: each level halves
+    }
+    const auto mode = j == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
+    if (!out->open(temp.string(), spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels[j].data())) {
+      const std::string reason = out->geterror();
+      std::filesystem::remove(temp);
+      throw Error(ErrorCode::kInternal, "cannot write " + path.string() + ": " + reason);
+    }
+  }
+  const bool closed = out->close();
+  out.reset();  // the OpenEXR file is complete only once the writer is gone
+  if (!closed) throw Error(ErrorCode::kInternal, "cannot write " + path.string() + ": " + OIIO::geterror());
+  const std::string checksum = Sha256Hex(ReadFile(temp));
+  std::filesystem::rename(temp, path);
+  return checksum;
+}
+
+std::vector<std::vector<float>> ReadLevelImage(const std::filesystem::path& path, const std::vector<int>& sides,
+                                               const std::vector<std::string>& channels) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw Error(ErrorCode::kInvalidArgument, "cannot read " + path.string() + ": " + OIIO::geterror());
+  std::vector<std::vector<float>> levels;
+  for (size_t j = 0; j < sides.size(); ++j) {
+    const std::string where = path.string() + " level " + std::to_string(j);
+    if (!in->seek_subimage(0, static_cast<int>(j))) throw Error(ErrorCode::kInvalidArgument, where + " is missing");
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width != sides[j] || spec.height != sides[j] || spec.nchannels != int(channels.size())) {
+      throw Error(ErrorCode::kInvalidArgument, where + " does not match the manifest's size or channel count");
+    }
+    std::vector<int> order;
+    for (const std::string& name : channels) {
+      const int index = spec.channelindex(name);
+      if (index < 0) throw Error(ErrorCode::kInvalidArgument, where + " has no channel " + name);
+      order.push_back(index);
+    }
+    const size_t pixel_count = size_t(spec.width) * spec.height;
+    std::vector<float> file(pixel_count * channels.size());
+    if (!in->read_image(0, static_cast<int>(j), 0, spec.nchannels, OIIO::TypeDesc::FLOAT, file.data())) {
+      throw Error(ErrorCode::kInvalidArgument, "cannot read " + where + ": " + in->geterror());
+    }
+    std::vector<float>& pixels = levels.emplace_back(file.size());
+    for (size_t p = 0; p < pixel_count; ++p) {
+      for (size_t c = 0; c < channels.size(); ++c) pixels[p * channels.size() + c] = file[p * channels.size() + order[c]];
+    }
+  }
+  return levels;
+}
+
+void CheckLevelChain(const json& levels, uint64_t values_per_texel, uint64_t max_values,
+                     const std::function<Error(const std::string&)>& invalid) {
+  if (!levels.is_array() || levels.empty()) throw invalid("levels is not a non-empty array");
+  const auto first = levels[0].at("resolution").get<int64_t>();
+  if (first < kMinSpatialResolution || first > kMaxSpatialResolution) {
+    throw invalid("levels[0].resolution " + std::to_string(first) + " is not in [" +
+                  std::to_string(kMinSpatialResolution) + ", " + std::to_string(kMaxSpatialResolution) + "]");
+  }
+  if (uint64_t(first) * uint64_t(first) * values_per_texel > max_values) {
+    throw invalid(std::to_string(first) + "² texels × " + std::to_string(values_per_texel) +
+                  " values a texel exceed the cap of " + std::to_string(max_values));
+  }
+  const size_t chain = std::has_single_bit(uint64_t(first)) ? std::countr_zero(uint64_t(first)) + 1 : 1;
+  if (levels.size() != 1 && levels.size() != chain) {
+    throw invalid(std::to_string(levels.size()) + " levels for resolution " + std::to_string(first) +
+                  ": either 1 or " + std::to_string(chain));
+  }
+  for (size_t j = 1; j < levels.size(); ++j) {
+    const auto resolution = levels[j].at("resolution").get<int64_t>();
+    if (resolution != first >> j) {
+      throw invalid("levels[" + std::to_string(j) + "].resolution " + std::to_string(resolution) + " is not " +
+                    std::to_string(first >> j));
+    }
+  }
+}
+
+std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const json& files, const char* name,
+                                   int side) {
+  const std::filesystem::path path = directory / name;
+  const std::string bytes = ReadFile(path);
+  const json& entry = files.at(name);
+  if (bytes.size() != entry.at("bytes").get<size_t>() || Sha256Hex(bytes) != entry.at("sha256").get<std::string>()) {
+    throw Error(ErrorCode::kInvalidArgument,
+                path.string() + " is corrupted: its size or SHA-256 differs from manifest.json");
+  }
+  CheckExrHeader(bytes, side, side, path.string());
+  return path;
+}
+
+json FileEntry(const std::filesystem::path& path, const std::string& sha256) {
+  return {{"bytes", std::filesystem::file_size(path)}, {"sha256", sha256}};
+}
+
+}  // namespace loom

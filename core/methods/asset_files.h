@@ -1,0 +1,65 @@
+#pragma once
+// The pieces every fabric method's asset directory is made of: images whose MIP
+// levels are the method's levels (OpenEXR through OpenImageIO, written to a
+// temporary name and renamed), and the manifest's checks on them before OpenEXR
+// reads a byte (sizes, SHA-256, headers; the level chain within the caps).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/util/error.h"
+
+namespace loom {
+
+// One image with its MIP levels, pixel-interleaved floats, level j of side sides[j].
+// Channels flagged in `keep_float` stay 32-bit in a half-float file.
+struct LevelImage {
+  std::vector<std::string> channel_names;
+  std::vector<int> sides;
+  std::vector<std::vector<float>> pixels;
+  std::vector<bool> keep_float = std::vector<bool>(channel_names.size(), false);
+};
+
+// The pixel of texel `texel`'s view `view` in a level's view atlas
+// (core/shaders/fabric_surface.glsl): the texel's k×k block of views at (x·k, y·k),
+// view (col, row) = (view % k, view / k) inside it, in a row-major image of side
+// resolution·k.
+inline size_t ViewAtlasPixel(size_t texel, uint32_t resolution, size_t view, uint32_t k) {
+  const size_t x = texel % resolution, y = texel / resolution, side = size_t{resolution} * k;
+  return (y * k + view / k) * side + x * k + view % k;
+}
+
+// Writes `image` to a temporary name beside `path`, then renames it; returns the
+// file's SHA-256. Several levels become a tiled MIP-mapped OpenEXR, which must go
+// down to 1×1: missing levels are point-sampled from the last given one (padding
+// that no renderer reads).
+std::string WriteLevelImage(const LevelImage& image, const std::filesystem::path& path, bool half);
+
+// The first sides.size() levels of an image written by WriteLevelImage, channels in
+// the order of `channels` (OpenEXR stores them sorted by name, so they are found by
+// name). Error(kInvalidArgument) if a level's size or channels differ.
+std::vector<std::vector<float>> ReadLevelImage(const std::filesystem::path& path, const std::vector<int>& sides,
+                                               const std::vector<std::string>& channels);
+
+// The manifest's "files" entry for a written file: its size and SHA-256.
+nlohmann::json FileEntry(const std::filesystem::path& path, const std::string& sha256);
+
+// Verifies `name` in `directory` against the manifest's "files" entry and its
+// OpenEXR header against the level-0 side `side` (core/image/exr_header.h) before
+// OpenEXR reads it; returns its path.
+std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const nlohmann::json& files,
+                                   const char* name, int side);
+
+// The manifest's "levels": level 0 within the spatial-resolution caps, then either
+// nothing more or every halving down to 1×1 (mip levels need a power of two), and
+// at most `max_values` values of `values_per_texel` each at level 0. Throws
+// invalid(what) otherwise.
+void CheckLevelChain(const nlohmann::json& levels, uint64_t values_per_texel, uint64_t max_values,
+                     const std::function<Error(const std::string&)>& invalid);
+
+}  // namespace loom

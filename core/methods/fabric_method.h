@@ -1,0 +1,88 @@
+#pragma once
+// A fabric method (DESIGN.md "Methods"): how a fabric's radiance samples become an
+// asset, how that asset is stored, and the GL program that shades cloth with it.
+// The cache key, the worker, the service, loom-lab and the renderer know methods
+// only through this interface; a method is chosen per fabric binding by
+// PrecomputeSettings.method, so one frame can hold objects of different methods.
+//
+// Every method's GPU asset shares the view atlas of core/shaders/fabric_surface.glsl
+// (per level, texel and view: RGB for the method, A the coverage alpha) at its first
+// texture unit: the shadow pass reads coverage from it whatever the method.
+// docs/methods.md describes each method's model and figures.
+
+#include <filesystem>
+#include <functional>
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "core/acquire/radiance_samples.h"
+#include "core/gl/shader_program.h"
+#include "loom/v1/precompute.pb.h"
+
+namespace loom {
+
+class FabricMethod;
+
+// A fabric asset in GPU memory, bound for the draws of one cloth object.
+class GpuFabric {
+ public:
+  virtual ~GpuFabric() = default;
+  virtual const FabricMethod& method() const = 0;
+  // Binds the asset's textures to units first_unit, first_unit + 1, … (the view
+  // atlas first) and sets the fabric uniforms of `program`, the method's cloth
+  // program or the shadow pass's.
+  virtual void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const = 0;
+};
+
+// A fabric asset in CPU memory: built from samples, or read from an asset directory.
+class FabricAsset {
+ public:
+  virtual ~FabricAsset() = default;
+  virtual const FabricMethod& method() const = 0;
+  // Writes the asset's files and its manifest (last) into `directory`, creating it.
+  virtual void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                     const std::filesystem::path& directory) const = 0;
+  // On the calling thread's current GL context; `half` stores what the method
+  // allows in 16-bit floats.
+  virtual std::unique_ptr<GpuFabric> Upload(bool half) const = 0;
+  // Wall time of the build (the fit, for svbrdf), acquisition excluded.
+  virtual double build_seconds() const = 0;
+};
+
+// fraction in [0, 1], non-decreasing; throwing from it cancels the build.
+using BuildProgress = std::function<void(double fraction, std::string_view stage)>;
+
+class FabricMethod {
+ public:
+  virtual ~FabricMethod() = default;
+  virtual v1::FabricMethod id() const = 0;
+  virtual std::string_view name() const = 0;  // "svbrdf", as in manifests and the CLI
+  // The embedded fragment shader of the method's cloth program.
+  virtual std::string_view cloth_shader() const = 0;
+  // Version of the method's asset layout and of what its build computes: part of the
+  // cache key, so bumping it invalidates the method's cached assets.
+  virtual uint32_t asset_format_version() const = 0;
+  // `settings` (defaults applied) with the fields that do not reach this method's
+  // asset cleared: the cache key hashes what is left.
+  virtual v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const = 0;
+  // `settings` with defaults applied and validated; `sampling_height` is the tile z
+  // of the face the texels were sampled on (acquisition's top face).
+  virtual std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+                                             const v1::PrecomputeSettings& settings,
+                                             const BuildProgress& progress) const = 0;
+  // Error(kNotFound) if a file is missing, Error(kInvalidArgument) if one is
+  // corrupted or inconsistent.
+  virtual std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const = 0;
+};
+
+// The method of an id; FABRIC_METHOD_UNSPECIFIED is svbrdf. Error(kInvalidArgument)
+// for an id no method has.
+const FabricMethod& MethodOf(v1::FabricMethod id);
+
+// The asset in `directory`, read by the method its manifest names (a manifest
+// without "method" is svbrdf's, as written before methods).
+std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& directory);
+
+}  // namespace loom

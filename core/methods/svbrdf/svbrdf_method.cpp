@@ -1,0 +1,55 @@
+#include "core/methods/svbrdf/svbrdf_method.h"
+
+#include "core/fit/fabric_asset.h"
+#include "core/render/fabric_textures.h"
+#include "core/spec/fabric_key.h"
+
+namespace loom {
+namespace {
+
+class Svbrdf final : public FabricMethod {
+ public:
+  v1::FabricMethod id() const override { return v1::FABRIC_METHOD_SVBRDF; }
+  std::string_view name() const override { return "svbrdf"; }
+  std::string_view cloth_shader() const override { return "svbrdf_cloth.frag"; }
+  uint32_t asset_format_version() const override { return kAssetFormatVersion; }
+
+  // svbrdf's keys predate methods: keyed without the method field, every svbrdf
+  // asset cached before methods keeps its key.
+  v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
+    settings.clear_method();
+    return settings;
+  }
+
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+                                     const v1::PrecomputeSettings& settings,
+                                     const BuildProgress& progress) const override {
+    FittedFabric fit = FitFabric(samples, settings, progress);
+    fit.sampling_height = sampling_height;
+    return std::make_unique<SvbrdfAsset>(std::move(fit));
+  }
+
+  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+    return std::make_unique<SvbrdfAsset>(ReadFabricAsset(directory));
+  }
+};
+
+}  // namespace
+
+const FabricMethod& SvbrdfAsset::method() const { return SvbrdfMethod(); }
+
+void SvbrdfAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                        const std::filesystem::path& directory) const {
+  WriteFabricAsset(fit_, settings, fabric_key, directory);
+}
+
+std::unique_ptr<GpuFabric> SvbrdfAsset::Upload(bool half) const {
+  return std::make_unique<FabricTextures>(FabricTextureData::FromFit(fit_), half);
+}
+
+const FabricMethod& SvbrdfMethod() {
+  static const Svbrdf method;
+  return method;
+}
+
+}  // namespace loom

@@ -1,0 +1,29 @@
+#pragma once
+// The svbrdf method (core/methods/fabric_method.h; Daubert 2001): the fitted BRDF
+// array of core/fit (Lafortune lobes × T(v), fitted mip levels), stored by
+// core/fit/fabric_asset.h, uploaded by core/render/fabric_textures.h and shaded by
+// core/shaders/svbrdf.glsl.
+
+#include "core/fit/fabric_fit.h"
+#include "core/methods/fabric_method.h"
+
+namespace loom {
+
+class SvbrdfAsset final : public FabricAsset {
+ public:
+  explicit SvbrdfAsset(FittedFabric fit) : fit_(std::move(fit)) {}
+  const FittedFabric& fit() const { return fit_; }
+
+  const FabricMethod& method() const override;
+  void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+             const std::filesystem::path& directory) const override;
+  std::unique_ptr<GpuFabric> Upload(bool half) const override;
+  double build_seconds() const override { return fit_.seconds; }
+
+ private:
+  FittedFabric fit_;
+};
+
+const FabricMethod& SvbrdfMethod();
+
+}  // namespace loom

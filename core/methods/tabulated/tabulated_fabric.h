@@ -1,0 +1,59 @@
+#pragma once
+// The tabulated method's data: a fabric's acquired radiance samples themselves, per
+// mip level, texel, view and light — no fit. What it renders is what any fitted
+// method at the same acquisition settings could at best render (the ceiling).
+//
+// Level 0 is the samples. Texel (x, y) of level k + 1 pools the samples of the
+// level-0 texels it covers, per (view, light), weighted by their coverage alpha
+// (as the svbrdf fit pools them, core/fit/fabric_fit.h); its alpha per view is their
+// mean. Where a (texel, view) has alpha 0 its radiance is its parent's for that view
+// (0 at the top level), so that filtering across a hole sees sensible values.
+//
+// The ambient response per (texel, view) is the radiance under a uniform
+// environment of unit radiance: ∫ L(v, l) dω_l ≈ 2π/L · Σ_l L(v, l), every light
+// direction covering the same solid angle (core/acquire/hemisphere_directions.h).
+//
+// EvaluateTabulated is the renderer's lookup in C++ (core/shaders/tabulated.glsl):
+// bilinear between the four stored views around the view and the four stored lights
+// around the light, each clamped to its grid; past the outermost ring of lights the
+// radiance fades linearly to 0 at the horizon, and is 0 below it.
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "core/acquire/radiance_samples.h"
+
+namespace loom {
+
+struct TabulatedLevel {
+  uint32_t resolution = 0;
+  // Texel (x, y) is index y·resolution + x; texel-major like RadianceSamples.
+  std::vector<glm::vec3> radiance;  // [(texel·V + view)·L + light], per unit irradiance
+  std::vector<float> alpha;         // [texel·V + view]
+  std::vector<glm::vec3> ambient;   // [texel·V + view]
+
+  size_t texel_count() const { return size_t{resolution} * resolution; }
+};
+
+struct TabulatedFabric {
+  std::vector<glm::vec3> view_directions;   // HemisphereGridDirections order
+  std::vector<glm::vec3> light_directions;  // HemisphereGridDirections order
+  std::vector<TabulatedLevel> levels;       // levels[0] is the finest
+  float sampling_height = 0.0f;             // as FittedFabric::sampling_height
+  double seconds = 0.0;                     // wall time of TabulateFabric
+
+  size_t view_count() const { return view_directions.size(); }
+  size_t light_count() const { return light_directions.size(); }
+};
+
+// Every level down to 1×1 with `mip_levels` (the resolution must then be a power of
+// two: Error(kInvalidArgument) otherwise), level 0 alone without.
+TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels, float sampling_height);
+
+// The renderer's radiance (rgb, per unit irradiance of a light from `light`) and
+// alpha (a) of texel `texel` of `level` seen from `view`, both unit, tile frame.
+glm::vec4 EvaluateTabulated(const TabulatedFabric& fabric, uint32_t level, size_t texel, glm::vec3 view,
+                            glm::vec3 light);
+
+}  // namespace loom

@@ -1,0 +1,307 @@
+#include "core/methods/tabulated/tabulated_method.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "core/acquire/hemisphere_directions.h"
+#include "core/methods/asset_files.h"
+#include "core/spec/defaults.h"
+#include "core/spec/limits.h"
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kTableFile = "table.exr";
+constexpr const char* kViewsFile = "views.exr";
+constexpr const char* kManifestFile = "manifest.json";
+// 1: the first layout.
+constexpr uint32_t kTabulatedFormatVersion = 1;
+
+uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
+
+// Level `level`'s table atlas (tabulated_method.h), RGB floats, row-major.
+std::vector<float> TableAtlas(const TabulatedFabric& fabric, const TabulatedLevel& level) {
+  const size_t views = fabric.view_count(), lights = fabric.light_count();
+  const uint32_t k = Side(views), kl = Side(lights);
+  const size_t side = size_t{level.resolution} * k * kl;
+  std::vector<float> pixels(side * side * 3);
+  for (size_t texel = 0; texel < level.texel_count(); ++texel) {
+    const size_t x = texel % level.resolution, y = texel / level.resolution;
+    for (size_t view = 0; view < views; ++view) {
+      for (size_t light = 0; light < lights; ++light) {
+        const size_t px = (x * k + view % k) * kl + light % kl, py = (y * k + view / k) * kl + light / kl;
+        const glm::vec3 value = level.radiance[(texel * views + view) * lights + light];
+        std::copy_n(&value[0], 3, &pixels[(py * side + px) * 3]);
+      }
+    }
+  }
+  return pixels;
+}
+
+// Level `level`'s view atlas: ambient response RGB, alpha A.
+std::vector<float> ViewsAtlas(const TabulatedFabric& fabric, const TabulatedLevel& level) {
+  const size_t views = fabric.view_count();
+  const uint32_t k = Side(views);
+  std::vector<float> pixels(level.texel_count() * views * 4);
+  for (size_t texel = 0; texel < level.texel_count(); ++texel) {
+    for (size_t view = 0; view < views; ++view) {
+      float* pixel = &pixels[ViewAtlasPixel(texel, level.resolution, view, k) * 4];
+      const glm::vec3 ambient = level.ambient[texel * views + view];
+      std::copy_n(&ambient[0], 3, pixel);
+      pixel[3] = level.alpha[texel * views + view];
+    }
+  }
+  return pixels;
+}
+
+int TableSide(const TabulatedFabric& fabric, uint32_t resolution) {
+  return static_cast<int>(resolution * Side(fabric.view_count()) * Side(fabric.light_count()));
+}
+int ViewsSide(const TabulatedFabric& fabric, uint32_t resolution) {
+  return static_cast<int>(resolution * Side(fabric.view_count()));
+}
+
+// The two atlases of every level, as images.
+LevelImage TableImage(const TabulatedFabric& fabric) {
+  LevelImage image{{"R", "G", "B"}, {}, {}};
+  for (const TabulatedLevel& level : fabric.levels) {
+    image.pixels.push_back(TableAtlas(fabric, level));
+    image.sides.push_back(TableSide(fabric, level.resolution));
+  }
+  return image;
+}
+
+LevelImage ViewsImage(const TabulatedFabric& fabric) {
+  LevelImage image{{"R", "G", "B", "A"}, {}, {}};
+  for (const TabulatedLevel& level : fabric.levels) {
+    image.pixels.push_back(ViewsAtlas(fabric, level));
+    image.sides.push_back(ViewsSide(fabric, level.resolution));
+  }
+  return image;
+}
+
+class TabulatedTextures final : public GpuFabric {
+ public:
+  TabulatedTextures(const TabulatedFabric& fabric, bool half)
+      : resolution_(fabric.levels.at(0).resolution),
+        levels_(static_cast<int>(fabric.levels.size())),
+        view_side_(static_cast<int>(Side(fabric.view_count()))),
+        light_side_(static_cast<int>(Side(fabric.light_count()))),
+        sampling_height_(fabric.sampling_height) {
+    glCreateTextures(GL_TEXTURE_2D, 1, &views_);
+    glCreateTextures(GL_TEXTURE_2D, 1, &table_);
+    glTextureStorage2D(views_, levels_, half ? GL_RGBA16F : GL_RGBA32F, ViewsSide(fabric, resolution_),
+                       ViewsSide(fabric, resolution_));
+    glTextureStorage2D(table_, levels_, half ? GL_RGB16F : GL_RGB32F, TableSide(fabric, resolution_),
+                       TableSide(fabric, resolution_));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int level = 0; level < levels_; ++level) {
+      const TabulatedLevel& data = fabric.levels[static_cast<size_t>(level)];
+      const int views_side = ViewsSide(fabric, data.resolution), table_side = TableSide(fabric, data.resolution);
+      glTextureSubImage2D(views_, level, 0, 0, views_side, views_side, GL_RGBA, GL_FLOAT,
+                          ViewsAtlas(fabric, data).data());
+      glTextureSubImage2D(table_, level, 0, 0, table_side, table_side, GL_RGB, GL_FLOAT,
+                          TableAtlas(fabric, data).data());
+    }
+    // Filtered linearly inside one level (between views, between lights); the
+    // shader chooses levels.
+    for (const GLuint texture : {views_, table_}) {
+      glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+      glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels_ - 1);
+    }
+  }
+  ~TabulatedTextures() override {
+    glDeleteTextures(1, &views_);
+    glDeleteTextures(1, &table_);
+  }
+  TabulatedTextures(const TabulatedTextures&) = delete;
+  TabulatedTextures& operator=(const TabulatedTextures&) = delete;
+
+  const FabricMethod& method() const override { return TabulatedMethod(); }
+
+  void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
+    glBindTextureUnit(static_cast<GLuint>(first_unit), views_);
+    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), table_);
+    program.Set("u_fabric_views", first_unit);
+    program.Set("u_fabric_table", first_unit + 1);
+    program.Set("u_fabric_levels", levels_);
+    program.Set("u_fabric_resolution", static_cast<int>(resolution_));
+    program.Set("u_fabric_view_side", view_side_);
+    program.Set("u_fabric_light_side", light_side_);
+    program.Set("u_fabric_repeat", repeat);
+    program.Set("u_fabric_sampling_height", sampling_height_);
+  }
+
+ private:
+  GLuint views_ = 0, table_ = 0;
+  uint32_t resolution_;
+  int levels_, view_side_, light_side_;
+  float sampling_height_;
+};
+
+// The direction count `field` of the manifest: a k×k grid within the caps.
+uint32_t DirectionCount(const json& manifest, const char* field, const std::function<Error(const std::string&)>& invalid) {
+  const auto count = manifest.at(field).get<int64_t>();
+  if (count < kMinDirections || count > kMaxDirections) {
+    throw invalid(std::string(field) + " " + std::to_string(count) + " is not in [" + std::to_string(kMinDirections) +
+                  ", " + std::to_string(kMaxDirections) + "]");
+  }
+  const auto side = static_cast<int64_t>(std::lround(std::sqrt(static_cast<double>(count))));
+  if (side * side != count) throw invalid(std::string(field) + " " + std::to_string(count) + " is not a k×k grid");
+  return static_cast<uint32_t>(count);
+}
+
+TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
+  const std::filesystem::path manifest_path = directory / kManifestFile;
+  const auto invalid = [&manifest_path](const std::string& what) {
+    return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
+  };
+  try {
+    const json manifest = json::parse(ReadFile(manifest_path));
+    if (manifest.at("method") != "tabulated") throw invalid("method is not tabulated");
+    if (manifest.at("asset_version").get<uint32_t>() != kTabulatedFormatVersion) {
+      throw invalid("asset version " + manifest.at("asset_version").dump() + ", this engine reads " +
+                    std::to_string(kTabulatedFormatVersion));
+    }
+    TabulatedFabric fabric;
+    const uint32_t views = DirectionCount(manifest, "view_directions", invalid);
+    const uint32_t lights = DirectionCount(manifest, "light_directions", invalid);
+    CheckLevelChain(manifest.at("levels"), uint64_t{views} * lights, kMaxRadianceSamples, invalid);
+    fabric.view_directions = HemisphereGridDirections(views);
+    fabric.light_directions = HemisphereGridDirections(lights);
+    fabric.sampling_height = manifest.at("sampling_height");
+    fabric.seconds = manifest.at("build_seconds");
+    if (!std::isfinite(fabric.sampling_height)) throw invalid("sampling_height is not finite");
+    std::vector<int> table_sides, views_sides;
+    for (const json& entry : manifest.at("levels")) {
+      TabulatedLevel& level = fabric.levels.emplace_back();
+      level.resolution = entry.at("resolution");
+      table_sides.push_back(TableSide(fabric, level.resolution));
+      views_sides.push_back(ViewsSide(fabric, level.resolution));
+    }
+    const json& files = manifest.at("files");
+    const auto tables = ReadLevelImage(VerifiedFile(directory, files, kTableFile, table_sides[0]), table_sides,
+                                       {"R", "G", "B"});
+    const auto atlases = ReadLevelImage(VerifiedFile(directory, files, kViewsFile, views_sides[0]), views_sides,
+                                        {"R", "G", "B", "A"});
+    const uint32_t k = Side(views), kl = Side(lights);
+    for (size_t j = 0; j < fabric.levels.size(); ++j) {
+      TabulatedLevel& level = fabric.levels[j];
+      const auto bad = [](float value) { return !(value >= 0.0f && std::isfinite(value)); };
+      if (std::any_of(tables[j].begin(), tables[j].end(), bad) ||
+          std::any_of(atlases[j].begin(), atlases[j].end(), bad)) {
+        throw invalid("level " + std::to_string(j) + " holds a negative or non-finite number");
+      }
+      level.radiance.resize(level.texel_count() * views * lights);
+      level.ambient.resize(level.texel_count() * views);
+      level.alpha.resize(level.texel_count() * views);
+      const size_t side = size_t(table_sides[j]);
+      for (size_t texel = 0; texel < level.texel_count(); ++texel) {
+        const size_t x = texel % level.resolution, y = texel / level.resolution;
+        for (size_t view = 0; view < views; ++view) {
+          const float* pixel = &atlases[j][ViewAtlasPixel(texel, level.resolution, view, k) * 4];
+          level.ambient[texel * views + view] = glm::vec3(pixel[0], pixel[1], pixel[2]);
+          level.alpha[texel * views + view] = pixel[3];
+          if (pixel[3] > 1.0f) throw invalid("level " + std::to_string(j) + " has an alpha above 1");
+          for (size_t light = 0; light < lights; ++light) {
+            const size_t px = (x * k + view % k) * kl + light % kl, py = (y * k + view / k) * kl + light / kl;
+            const float* value = &tables[j][(py * side + px) * 3];
+            level.radiance[(texel * views + view) * lights + light] = glm::vec3(value[0], value[1], value[2]);
+          }
+        }
+      }
+    }
+    return fabric;
+  } catch (const json::exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + " is not a valid manifest: " + e.what());
+  }
+}
+
+class Tabulated final : public FabricMethod {
+ public:
+  v1::FabricMethod id() const override { return v1::FABRIC_METHOD_TABULATED; }
+  std::string_view name() const override { return "tabulated"; }
+  std::string_view cloth_shader() const override { return "tabulated_cloth.frag"; }
+  uint32_t asset_format_version() const override { return kTabulatedFormatVersion; }
+
+  v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
+    // svbrdf's fit: nothing of it reaches the table.
+    settings.clear_lobes();
+    settings.clear_lookup_table();
+    settings.clear_lut_change_threshold();
+    settings.clear_max_alternations();
+    settings.clear_max_lm_iterations();
+    return settings;
+  }
+
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+                                     const v1::PrecomputeSettings& settings,
+                                     const BuildProgress& progress) const override {
+    if (progress) progress(0.0, "tabulate");
+    auto asset = std::make_unique<TabulatedAsset>(
+        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE, sampling_height));
+    if (progress) progress(1.0, "tabulate");
+    return asset;
+  }
+
+  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+    return std::make_unique<TabulatedAsset>(ReadTabulated(directory));
+  }
+};
+
+}  // namespace
+
+const FabricMethod& TabulatedAsset::method() const { return TabulatedMethod(); }
+
+void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                           const std::filesystem::path& directory) const {
+  const v1::PrecomputeSettings resolved = WithDefaults(settings);
+  const bool half = resolved.half_float();
+  std::filesystem::create_directories(directory);
+  const std::string table_sha = WriteLevelImage(TableImage(fabric_), directory / kTableFile, half);
+  const std::string views_sha = WriteLevelImage(ViewsImage(fabric_), directory / kViewsFile, half);
+  json levels = json::array();
+  for (size_t j = 0; j < fabric_.levels.size(); ++j) {
+    levels.push_back({{"level", j}, {"resolution", fabric_.levels[j].resolution}});
+  }
+  const json manifest = {
+      {"method", "tabulated"},
+      {"asset_version", kTabulatedFormatVersion},
+      {"fabric_key", fabric_key},
+      {"settings", json::parse(SpecToJson(resolved, false))},
+      {"sampling_height", fabric_.sampling_height},
+      {"half_float", half},
+      {"resolution", fabric_.levels.front().resolution},
+      {"view_directions", fabric_.view_count()},
+      {"light_directions", fabric_.light_count()},
+      {"levels", levels},
+      {"build_seconds", fabric_.seconds},
+      {"files",
+       {{kTableFile, FileEntry(directory / kTableFile, table_sha)},
+        {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}}},
+  };
+  WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
+}
+
+std::unique_ptr<GpuFabric> TabulatedAsset::Upload(bool half) const {
+  return std::make_unique<TabulatedTextures>(fabric_, half);
+}
+
+const FabricMethod& TabulatedMethod() {
+  static const Tabulated method;
+  return method;
+}
+
+}  // namespace loom

@@ -1,0 +1,92 @@
+// Cloth, whatever its method: the fabric's radiance and coverage at a fragment from
+// the method's ShadeFabricTexel (defined by the method's shader, included before
+// this file), blended over texels, levels and the anisotropic footprint, under the
+// scene's lights with macro-scale shadows and ambient light, alpha for holes.
+// Output: linear radiance, premultiplied by the fabric's coverage alpha.
+//
+// Objects without a fabric have their own program (opaque.frag), not a branch
+// here: llvmpipe runs both sides of a branch under a mask, so a floor drawn with
+// this program paid for the fabric's shading (the 1080p bench cloth's floor and
+// ball alone took 525 ms, 399 ms with their own program; docs/gpu.md).
+
+// One level at `tile`: the texel it falls in (the paper's lookup), or with
+// LOOM_BILINEAR_TEXELS the four texels around it, their shadings blended bilinearly
+// across the tile's periodic edges. Blending shadings, not parameters: a mean of
+// lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
+// bench set, blending the shadings +1.6 dB). The 1×1 level takes the same path (its
+// four taps are the one texel, weights summing to 1): a branch for it cost llvmpipe,
+// which runs both sides of a branch, a fifth shading on every level (1080p bench
+// cloth 712 → 631 ms without it).
+vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
+#ifdef LOOM_BILINEAR_TEXELS
+  int resolution = FabricResolution(level);
+  vec2 at = fract(tile) * float(resolution) - 0.5;
+  vec2 corner = floor(at), weight = at - corner;
+  vec4 result = vec4(0.0);
+  for (int i = 0; i < 4; ++i) {
+    ivec2 offset = ivec2(i & 1, i >> 1);
+    ivec2 texel = (ivec2(corner) + offset + resolution) % resolution;
+    vec2 w = mix(1.0 - weight, weight, vec2(offset));
+    result += w.x * w.y * ShadeFabricTexel(texel, level, fragment);
+  }
+  return result;
+#else
+  return ShadeFabricTexel(FabricTexelAt(tile, level), level, fragment);
+#endif
+}
+
+// The footprint's one or two levels at `tile`, blended.
+vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, FabricFragment fragment) {
+  vec4 result = ShadeFabricLevel(tile, f.level0, fragment);
+  if (f.blend > 0.0) result = mix(result, ShadeFabricLevel(tile, f.level1, fragment), f.blend);
+  return result;
+}
+
+// The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
+// (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
+// is the unit world direction to the eye.
+vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitangent, vec3 towards_viewer,
+                 vec3 ambient) {
+  mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
+  vec3 view = to_surface * towards_viewer;
+  vec2 tile = FabricTile(uv, view);
+  // The footprint comes first: derivatives are undefined inside the loop.
+  FabricFootprint f = FabricLevels(tile);
+  FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
+#ifdef LOOM_ANISOTROPIC_LEVELS
+  vec4 result = vec4(0.0);
+  for (int i = 0; i < f.samples; ++i) {
+    vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
+    result += ShadeFabricLevels(at, f, fragment);
+  }
+  return result / float(f.samples);
+#else
+  return ShadeFabricLevels(tile, f, fragment);
+#endif
+}
+
+in vec3 v_position;
+in vec3 v_normal;
+in vec4 v_tangent;
+in vec2 v_uv;
+
+uniform vec3 u_ambient;
+uniform vec3 u_eye;
+// Orthographic cameras look along one direction: towards the viewer, normalised.
+uniform bool u_orthographic;
+uniform vec3 u_towards_viewer;
+
+layout(location = 0) out vec4 o_radiance;
+
+// Below this a fabric fragment is a hole: less than one 8-bit step of coverage.
+const float kMinCoverage = 1.0 / 256.0;
+
+void main() {
+  mat3 frame = ClothFrame(v_normal, v_tangent, gl_FrontFacing);
+  vec3 view = u_orthographic ? u_towards_viewer : normalize(u_eye - v_position);
+  vec4 shaded = ShadeFabric(v_uv, v_position, frame[2], frame[0], frame[1], view, u_ambient);
+  // A hole writes no depth, so cloth drawn later behind it still shows.
+  if (shaded.a < kMinCoverage) discard;
+  // Premultiplied: blended over what lies behind (SvbrdfRenderer draws cloth last).
+  o_radiance = vec4(shaded.rgb * shaded.a, shaded.a);
+}
