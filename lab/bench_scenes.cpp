@@ -81,13 +81,44 @@ std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
   base.mutable_render()->set_height(height);
 
   std::map<std::string, double> distances;
-  std::vector<std::string> distance_order;
-  for (const json& distance : Field(set, "distances", set_file, "")) {
-    const std::string name = Field(distance, "name", set_file, "distances[].").get<std::string>();
-    const double pixels = Field(distance, "tile_pixels", set_file, "distances[].").get<double>();
-    if (!(pixels > 0.0)) Fail(set_file, "distances[" + name + "].tile_pixels", "must be > 0");
-    distances[name] = pixels;
-    distance_order.push_back(name);
+  const auto read_distances = [&](const json& list, const std::string& path) {
+    std::vector<std::string> order;
+    for (const json& distance : list) {
+      const std::string name = Field(distance, "name", set_file, path + "[].").get<std::string>();
+      const double pixels = Field(distance, "tile_pixels", set_file, path + "[].").get<double>();
+      if (!(pixels > 0.0)) Fail(set_file, path + "[" + name + "].tile_pixels", "must be > 0");
+      if (distances.contains(name) && distances.at(name) != pixels) {
+        Fail(set_file, path + "[" + name + "]", "a distance of that name has another tile_pixels");
+      }
+      distances[name] = pixels;
+      order.push_back(name);
+    }
+    return order;
+  };
+  const std::vector<std::string> distance_order = read_distances(Field(set, "distances", set_file, ""), "distances");
+  // Variants: more flat scenes of every fabric under other lights or at other
+  // distances, named "<fabric>.flat<tilt>.<distance>.<variant>".
+  struct Variant {
+    std::string name;
+    std::vector<double> tilts;
+    std::vector<std::string> distances;
+    v1::SceneSpec base;
+  };
+  std::vector<Variant> variants;
+  for (const json& entry : set.value("variants", json::array())) {
+    Variant variant;
+    variant.name = Field(entry, "name", set_file, "variants[].").get<std::string>();
+    const std::string path = "variants[" + variant.name + "].";
+    variant.tilts = Field(entry, "tilts_degrees", set_file, path).get<std::vector<double>>();
+    variant.distances = read_distances(Field(entry, "distances", set_file, path), path + "distances");
+    variant.base = base;
+    if (entry.contains("lights")) {
+      json lights = json::object();
+      lights["lights"] = entry.at("lights");
+      v1::SceneSpec lit = ParseSpecJson<v1::SceneSpec>(lights.dump(), path + "lights");
+      *variant.base.mutable_lights() = lit.lights();
+    }
+    variants.push_back(std::move(variant));
   }
   const double world_per_pixel = kViewHeight / height;
   const double aspect = static_cast<double>(width) / height;
@@ -98,28 +129,32 @@ std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
     const auto fabric = LoadSpecFile<v1::FabricSpec>(
         directory / Field(entry, "file", set_file, "fabrics[].").get<std::string>(), "fabric");
     const auto add = [&](const std::string& view, const std::string& distance, v1::SceneObject object,
-                         v1::Camera camera) {
-      BenchScene bench{fabric_name + "." + view + "." + distance, fabric_name, view, distance, distances.at(distance),
-                       base};
+                         v1::Camera camera, const v1::SceneSpec& scene_base = {}, const std::string& variant = {}) {
+      BenchScene bench{fabric_name + "." + view + "." + distance + (variant.empty() ? "" : "." + variant),
+                       fabric_name, view, distance, distances.at(distance), variant.empty() ? base : scene_base,
+                       variant};
       bench.scene.set_name(bench.name);
       *bench.scene.add_objects() = std::move(object);
       *bench.scene.mutable_camera() = std::move(camera);
       scenes.push_back(std::move(bench));
     };
-    for (const json& tilt_json : Field(set, "tilts_degrees", set_file, "")) {
-      const double tilt = tilt_json.get<double>();
-      if (!(tilt >= 0.0 && tilt <= 85.0)) Fail(set_file, "tilts_degrees", "each tilt must lie in [0, 85]");
+    // The flat patch at `tilt` and `distance`.
+    const auto add_flat = [&](double tilt, const std::string& path, const std::string& distance,
+                              const v1::SceneSpec& scene_base, const std::string& variant) {
+      if (!(tilt >= 0.0 && tilt <= 85.0)) Fail(set_file, path, "each tilt must lie in [0, 85]");
       const double radians = tilt * std::numbers::pi / 180.0;
       const double extent_u = kOverfill * kViewHeight * aspect;
       const double extent_v = kOverfill * kViewHeight / std::cos(radians);
-      for (const std::string& distance : distance_order) {
-        const double tile_world = distances.at(distance) * world_per_pixel;
-        add("flat" + std::to_string(static_cast<int>(std::lround(tilt))), distance,
-            Cloth(fabric, v1::BUILTIN_SHAPE_PLANE, Vec(extent_u, extent_v, 1), extent_u / tile_world,
-                  extent_v / tile_world),
-            OrthographicCamera(Vec(0, -kCameraDistance * std::sin(radians), kCameraDistance * std::cos(radians)),
-                               Vec(0, 1, 0)));
-      }
+      const double tile_world = distances.at(distance) * world_per_pixel;
+      add("flat" + std::to_string(static_cast<int>(std::lround(tilt))), distance,
+          Cloth(fabric, v1::BUILTIN_SHAPE_PLANE, Vec(extent_u, extent_v, 1), extent_u / tile_world,
+                extent_v / tile_world),
+          OrthographicCamera(Vec(0, -kCameraDistance * std::sin(radians), kCameraDistance * std::cos(radians)),
+                             Vec(0, 1, 0)),
+          scene_base, variant);
+    };
+    for (const json& tilt_json : Field(set, "tilts_degrees", set_file, "")) {
+      for (const std::string& distance : distance_order) add_flat(tilt_json.get<double>(), "tilts_degrees", distance, base, {});
     }
     for (const json& curved : set.value("curved", json::array())) {
       const std::string shape_name = Field(curved, "shape", set_file, "curved[].").get<std::string>();
@@ -135,6 +170,13 @@ std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
           Cloth(fabric, v1::BUILTIN_SHAPE_SPHERE, Vec(r, r, r), 2.0 * std::numbers::pi * r / tile_world,
                 std::numbers::pi * r / tile_world),
           OrthographicCamera(Vec(0, -kCameraDistance, 0), Vec(0, 0, 1)));
+    }
+    for (const Variant& variant : variants) {
+      for (const double tilt : variant.tilts) {
+        for (const std::string& distance : variant.distances) {
+          add_flat(tilt, "variants[" + variant.name + "].tilts_degrees", distance, variant.base, variant.name);
+        }
+      }
     }
   }
   return scenes;

@@ -14,7 +14,12 @@
 // - Curved: the built-in shape, radius kCurvedRadius, seen from −y; repeats so a
 //   tile at the centre of the view spans `tile_pixels` pixels.
 //
-// Scene names are "<fabric>.flat<tilt>.<distance>" and "<fabric>.<shape>.<distance>".
+// - Variants: more flat patches of every fabric at the variant's tilts and distances,
+//   under the variant's lights where it gives them (e.g. lit from the side away from
+//   the camera), else the template's.
+//
+// Scene names are "<fabric>.flat<tilt>.<distance>", "<fabric>.<shape>.<distance>" and
+// "<fabric>.flat<tilt>.<distance>.<variant>".
 
 #include <filesystem>
 #include <string>
@@ -31,6 +36,7 @@ struct BenchScene {
   std::string distance;  // "near", "mid", "far"
   double tile_pixels = 0.0;
   v1::SceneSpec scene;   // as a spec file would give it (defaults not applied)
+  std::string variant;   // empty for the set's plain scenes
 };
 
 inline constexpr double kViewHeight = 2.0;

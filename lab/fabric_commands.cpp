@@ -1,12 +1,12 @@
 // loom-lab geometry | acquire | fit | precompute: a fabric's micro-geometry, its
-// radiance samples, the fit of saved samples, and its fitted BRDF array (the cached
-// asset).
+// radiance samples, the svbrdf fit of saved samples, and its asset (the cached one,
+// of the settings' method).
 
 #include <cstdio>
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
-#include "core/fit/fabric_asset.h"
+#include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/scene/obj_writer.h"
 #include "core/spec/fabric_key.h"
@@ -27,40 +27,20 @@ nlohmann::json TileJson(const FabricTile& tile) {
           {"z_max", tile.z_max}};
 }
 
-nlohmann::json FitJson(const FittedFabric& fitted) {
-  nlohmann::json levels = nlohmann::json::array();
-  size_t texels = 0;
-  for (const FittedLevel& level : fitted.levels) {
-    const FitLevelStats& s = level.stats;
-    texels += level.brdfs.size();
-    levels.push_back({{"level", s.level},
-                      {"resolution", s.resolution},
-                      {"rmse_mean", s.rmse_mean},
-                      {"rmse_p95", s.rmse_p95},
-                      {"rmse_max", s.rmse_max},
-                      {"relative_rmse", s.relative_rmse},
-                      {"lm_iterations_per_texel", s.lm_iterations_per_texel},
-                      {"mean_alternations", s.mean_alternations},
-                      {"fallback_fewer_lobes", s.fewer_lobes},
-                      {"fallback_diffuse", s.diffuse_only},
-                      {"empty", s.empty},
-                      {"black", s.black},
-                      {"seconds", s.fit_seconds}});
-  }
-  return {{"seconds", fitted.seconds},
-          {"texels", texels},
-          {"texels_per_second", fitted.seconds > 0 ? static_cast<double>(texels) / fitted.seconds : 0.0},
-          {"lobes", fitted.lobes},
-          {"lookup_table", fitted.lookup_table},
-          {"levels", levels}};
-}
-
-void PrintLevels(const FittedFabric& fitted) {
-  for (const FittedLevel& level : fitted.levels) {
-    std::printf("  level %u (%u²): relative RMSE %.2f%%, %.1f LM iterations/texel, %u fallbacks, %u empty\n",
-                level.stats.level, level.stats.resolution, 100.0 * level.stats.relative_rmse,
-                level.stats.lm_iterations_per_texel, level.stats.fewer_lobes + level.stats.diffuse_only,
-                level.stats.empty);
+// A build's figures (FabricAsset::Figures), a line per level.
+void PrintLevels(const nlohmann::json& figures) {
+  for (const nlohmann::json& level : figures.at("levels")) {
+    std::printf("  level %d (%d²)", level.at("level").get<int>(), level.at("resolution").get<int>());
+    if (level.contains("relative_rmse")) {
+      std::printf(": relative RMSE %.2f%%", 100.0 * level.at("relative_rmse").get<double>());
+    }
+    if (level.contains("lm_iterations_per_texel")) {
+      std::printf(", %.1f LM iterations/texel, %d fallbacks, %d empty",
+                  level.at("lm_iterations_per_texel").get<double>(),
+                  level.at("fallback_fewer_lobes").get<int>() + level.at("fallback_diffuse").get<int>(),
+                  level.at("empty").get<int>());
+    }
+    std::printf("\n");
   }
 }
 
@@ -191,12 +171,13 @@ LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags) {
                   samples, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
                   options->threads);
             }
+            const nlohmann::json figures = SvbrdfFitFigures(fitted);
             if (flags.json) {
-              PrintJson(FitJson(fitted));
+              PrintJson(figures);
             } else {
               std::printf("fitted %s in %.2f s (%zu levels)\n", options->samples.c_str(), fitted.seconds,
                           fitted.levels.size());
-              PrintLevels(fitted);
+              PrintLevels(figures);
             }
             return 0;
           }};
@@ -209,23 +190,24 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
-      "precompute", "Geometry → acquisition → fit → fabric asset (the cached fitted BRDF array) in a directory");
+      "precompute", "Geometry → acquisition → the settings' method's build → its fabric asset (as cached) in a directory");
   options->input.AddTo(command);
-  command->add_option("--out,-o", options->out, "Output directory (parameters.exr, lut.exr, manifest.json)")
+  command->add_option("--out,-o", options->out, "Output directory (the method's files and manifest.json)")
       ->required();
   return {command, [&flags, options] {
             const auto fabric = options->input.LoadFabric();
             const auto settings = options->input.LoadSettings();
             const Stopwatch stopwatch;
             PrecomputeStats stats;
-            FittedFabric fitted;
+            std::unique_ptr<FabricAsset> asset;
             {
               ProgressBar bar("precompute");
-              fitted = PrecomputeFabric(fabric, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
-                                        &stats);
+              asset = PrecomputeAsset(fabric, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
+                                      &stats);
             }
             const std::string key = FabricKey(fabric, settings);
-            WriteFabricAsset(fitted, settings, key, options->out);
+            asset->Write(settings, key, options->out);
+            const nlohmann::json figures = asset->Figures();
             const double total_seconds = stopwatch.Seconds();
             const uintmax_t asset_bytes = DirectoryBytes(options->out);
             if (flags.json) {
@@ -240,12 +222,13 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
                            {"rays", stats.acquisition.rays},
                            {"rays_per_second", stats.acquisition.rays_per_second()},
                            {"mean_alpha", stats.mean_alpha}}},
-                         {"fit", FitJson(fitted)}});
+                         {"build", figures}});
             } else {
-              std::printf("wrote %s (%.1f KB): acquisition %.1f s, fit %.1f s (%zu levels), total %.1f s\nkey %s\n",
+              std::printf("wrote %s (%.1f KB): acquisition %.1f s, %s %.1f s (%zu levels), total %.1f s\nkey %s\n",
                           options->out.c_str(), static_cast<double>(asset_bytes) / 1024.0, stats.acquisition.seconds,
-                          fitted.seconds, fitted.levels.size(), total_seconds, key.c_str());
-              PrintLevels(fitted);
+                          std::string(asset->method().name()).c_str(), asset->build_seconds(),
+                          figures.at("levels").size(), total_seconds, key.c_str());
+              PrintLevels(figures);
             }
             return 0;
           }};

@@ -92,9 +92,11 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
   command->add_option("--out,-o", options->out, "Output image")->required();
   command->add_option("--method", options->method,
-                      "reference, or a fabric method for every cloth object on the GPU: svbrdf, tabulated "
-                      "(default: the scene's render.method and each object's precompute.method)")
-      ->check(CLI::IsMember({"svbrdf", "tabulated", "reference"}));
+                      "reference, or a fabric method for every cloth object on the GPU: " + MethodNames() +
+                          " (default: the scene's render.method and each object's precompute.method)")
+      ->check([](const std::string& name) {
+        return name == "reference" || MethodNamed(name) ? std::string() : "not reference, " + MethodNames();
+      });
   command->add_option("--level-mode", options->level_mode, "svbrdf level mode (default: the scene's render.level_mode)")
       ->check(CLI::IsMember({"none", "nearest", "trilinear", "anisotropic"}));
   command->add_option("--texel-filter", options->texel_filter,
@@ -116,8 +118,7 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
               scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
             } else if (!options->method.empty()) {
               scene.mutable_render()->set_method(v1::RENDER_METHOD_SVBRDF);
-              v1::FabricMethod method = v1::FABRIC_METHOD_UNSPECIFIED;
-              v1::FabricMethod_Parse(EnumName("FABRIC_METHOD_", options->method), &method);
+              const v1::FabricMethod method = MethodNamed(options->method)->id();
               for (v1::SceneObject& object : *scene.mutable_objects()) {
                 if (object.has_fabric()) object.mutable_fabric()->mutable_precompute()->set_method(method);
               }

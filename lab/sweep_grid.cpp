@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "core/methods/fabric_method.h"
 #include "core/plan/precompute_plan.h"
 #include "core/scene/scene_geometry.h"
 #include "core/spec/defaults.h"
@@ -122,14 +123,15 @@ SweepGrid LoadSweepGrid(const std::filesystem::path& grid_file) {
         }
       }
       const std::string method = entry.value("method", "svbrdf");
-      if (method != "svbrdf" && method != "tabulated" && method != "reference") {
+      const FabricMethod* fabric_method = MethodNamed(method);
+      if (method != "reference" && fabric_method == nullptr) {
         throw Error(ErrorCode::kInvalidArgument,
-                    field + ".method: '" + method + "' is not svbrdf, tabulated or reference");
+                    field + ".method: '" + method + "' is not reference, " + MethodNames());
       }
       configuration.method = method == "reference" ? v1::RENDER_METHOD_REFERENCE : v1::RENDER_METHOD_SVBRDF;
       configuration.precompute = Merged(base_precompute, entry, "precompute", field + ".precompute");
       // A fabric method: the GPU renders with it (precompute.method).
-      if (method == "tabulated") configuration.precompute.set_method(v1::FABRIC_METHOD_TABULATED);
+      if (fabric_method != nullptr) configuration.precompute.set_method(fabric_method->id());
       configuration.render = Merged(base_render, entry, "render", field + ".render");
       configuration.scene_patterns = Patterns(entry, field + ".scenes");
       if (entry.contains("plan_budget_db")) {

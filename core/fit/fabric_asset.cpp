@@ -90,7 +90,7 @@ LevelImage LutImage(const FittedFabric& fabric) {
     std::vector<float>& pixels = image.pixels.emplace_back(side * side * 4);
     for (size_t texel = 0; texel < level.brdfs.size(); ++texel) {
       for (size_t v = 0; v < views; ++v) {
-        float* pixel = &pixels[ViewAtlasPixel(texel, level.resolution, v, k) * 4];
+        float* pixel = &pixels[DirectionAtlasPixel(texel, level.resolution, v, k) * 4];
         const glm::vec3 t = level.lut[texel * views + v];
         pixel[0] = t.r;
         pixel[1] = t.g;
@@ -246,7 +246,7 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
       }
       for (size_t texel = 0; texel < level.brdfs.size(); ++texel) {
         for (size_t v = 0; v < views; ++v) {
-          const float* pixel = &luts[j][ViewAtlasPixel(texel, level.resolution, v, static_cast<uint32_t>(k)) * 4];
+          const float* pixel = &luts[j][DirectionAtlasPixel(texel, level.resolution, v, static_cast<uint32_t>(k)) * 4];
           level.lut[texel * views + v] = glm::vec3(pixel[0], pixel[1], pixel[2]);
           level.alpha[texel * views + v] = pixel[3];
         }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "core/image/exr_header.h"
 #include "core/spec/limits.h"
@@ -136,6 +137,54 @@ std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const
   }
   CheckExrHeader(bytes, side, side, path.string());
   return path;
+}
+
+std::vector<float> AmbientAlphaAtlas(const std::vector<glm::vec3>& ambient, const std::vector<float>& alpha,
+                                     uint32_t resolution, size_t views) {
+  const auto k = static_cast<uint32_t>(std::lround(std::sqrt(static_cast<double>(views))));
+  const size_t texels = size_t{resolution} * resolution;
+  std::vector<float> pixels(texels * views * 4);
+  for (size_t texel = 0; texel < texels; ++texel) {
+    for (size_t view = 0; view < views; ++view) {
+      float* pixel = &pixels[DirectionAtlasPixel(texel, resolution, view, k) * 4];
+      const glm::vec3 value = ambient[texel * views + view];
+      std::copy_n(&value[0], 3, pixel);
+      pixel[3] = alpha[texel * views + view];
+    }
+  }
+  return pixels;
+}
+
+void ReadAmbientAlphaAtlas(const std::vector<float>& atlas, uint32_t resolution, size_t views,
+                           std::vector<glm::vec3>& ambient, std::vector<float>& alpha,
+                           const std::function<Error(const std::string&)>& invalid) {
+  const auto k = static_cast<uint32_t>(std::lround(std::sqrt(static_cast<double>(views))));
+  const size_t texels = size_t{resolution} * resolution;
+  ambient.resize(texels * views);
+  alpha.resize(texels * views);
+  for (size_t texel = 0; texel < texels; ++texel) {
+    for (size_t view = 0; view < views; ++view) {
+      const float* pixel = &atlas[DirectionAtlasPixel(texel, resolution, view, k) * 4];
+      for (int c = 0; c < 4; ++c) {
+        if (!(pixel[c] >= 0.0f && std::isfinite(pixel[c]))) throw invalid("a negative or non-finite ambient or alpha");
+      }
+      if (pixel[3] > 1.0f) throw invalid("an alpha above 1");
+      ambient[texel * views + view] = glm::vec3(pixel[0], pixel[1], pixel[2]);
+      alpha[texel * views + view] = pixel[3];
+    }
+  }
+}
+
+uint32_t ManifestDirectionCount(const json& manifest, const char* field,
+                                const std::function<Error(const std::string&)>& invalid) {
+  const auto count = manifest.at(field).get<int64_t>();
+  if (count < kMinDirections || count > kMaxDirections) {
+    throw invalid(std::string(field) + " " + std::to_string(count) + " is not in [" + std::to_string(kMinDirections) +
+                  ", " + std::to_string(kMaxDirections) + "]");
+  }
+  const auto side = static_cast<int64_t>(std::lround(std::sqrt(static_cast<double>(count))));
+  if (side * side != count) throw invalid(std::string(field) + " " + std::to_string(count) + " is not a k×k grid");
+  return static_cast<uint32_t>(count);
 }
 
 json FileEntry(const std::filesystem::path& path, const std::string& sha256) {

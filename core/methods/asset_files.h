@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
@@ -25,14 +26,25 @@ struct LevelImage {
   std::vector<bool> keep_float = std::vector<bool>(channel_names.size(), false);
 };
 
-// The pixel of texel `texel`'s view `view` in a level's view atlas
-// (core/shaders/fabric_surface.glsl): the texel's k×k block of views at (x·k, y·k),
-// view (col, row) = (view % k, view / k) inside it, in a row-major image of side
+// The pixel of texel `texel`'s stored direction `d` in a level's direction atlas
+// (the view atlas of core/shaders/fabric_surface.glsl, and the light atlases of the
+// methods with light tables): the texel's k×k block of directions at (x·k, y·k),
+// direction (col, row) = (d % k, d / k) inside it, in a row-major image of side
 // resolution·k.
-inline size_t ViewAtlasPixel(size_t texel, uint32_t resolution, size_t view, uint32_t k) {
+inline size_t DirectionAtlasPixel(size_t texel, uint32_t resolution, size_t d, uint32_t k) {
   const size_t x = texel % resolution, y = texel / resolution, side = size_t{resolution} * k;
-  return (y * k + view / k) * side + x * k + view % k;
+  return (y * k + d / k) * side + x * k + d % k;
 }
+
+// The view atlas of methods whose RGB is the ambient response: per (texel, view)
+// ambient.rgb and alpha, RGBA floats (`views` a k×k grid); and back, Error
+// (kInvalidArgument) through `invalid` for a value that is negative, non-finite or,
+// for alpha, above 1.
+std::vector<float> AmbientAlphaAtlas(const std::vector<glm::vec3>& ambient, const std::vector<float>& alpha,
+                                     uint32_t resolution, size_t views);
+void ReadAmbientAlphaAtlas(const std::vector<float>& atlas, uint32_t resolution, size_t views,
+                           std::vector<glm::vec3>& ambient, std::vector<float>& alpha,
+                           const std::function<Error(const std::string&)>& invalid);
 
 // Writes `image` to a temporary name beside `path`, then renames it; returns the
 // file's SHA-256. Several levels become a tiled MIP-mapped OpenEXR, which must go
@@ -54,6 +66,11 @@ nlohmann::json FileEntry(const std::filesystem::path& path, const std::string& s
 // OpenEXR reads it; returns its path.
 std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const nlohmann::json& files,
                                    const char* name, int side);
+
+// The manifest's direction count `field`: a k×k grid within the caps, else
+// invalid(what) is thrown.
+uint32_t ManifestDirectionCount(const nlohmann::json& manifest, const char* field,
+                                const std::function<Error(const std::string&)>& invalid);
 
 // The manifest's "levels": level 0 within the spatial-resolution caps, then either
 // nothing more or every halving down to 1×1 (mip levels need a power of two), and

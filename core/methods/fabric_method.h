@@ -14,6 +14,7 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 
@@ -24,6 +25,18 @@
 namespace loom {
 
 class FabricMethod;
+
+// What fabric_surface.glsl needs of any method's asset on the GPU.
+struct FabricSurface {
+  int levels = 0;
+  int resolution = 0;         // level-0 texels per tile side
+  int view_side = 0;          // the view atlas's k
+  int light_side = 0;         // k_l of a method with light tables (LOOM_FABRIC_LIGHT_GRID), else 0
+  float sampling_height = 0;  // tile z of the face the texels were sampled on
+
+  // Sets the surface's uniforms, the repeat and the view atlas's unit on `program`.
+  void Set(const gl::ShaderProgram& program, int views_unit, glm::vec2 repeat) const;
+};
 
 // A fabric asset in GPU memory, bound for the draws of one cloth object.
 class GpuFabric {
@@ -49,6 +62,10 @@ class FabricAsset {
   virtual std::unique_ptr<GpuFabric> Upload(bool half) const = 0;
   // Wall time of the build (the fit, for svbrdf), acquisition excluded.
   virtual double build_seconds() const = 0;
+  // What the build made and what it cost, for people and scripts: at least
+  // "method", "seconds" and "levels" (per level at least "level" and "resolution";
+  // "relative_rmse" where the method approximates its samples).
+  virtual nlohmann::json Figures() const = 0;
 };
 
 // fraction in [0, 1], non-decreasing; throwing from it cancels the build.
@@ -80,6 +97,10 @@ class FabricMethod {
 // The method of an id; FABRIC_METHOD_UNSPECIFIED is svbrdf. Error(kInvalidArgument)
 // for an id no method has.
 const FabricMethod& MethodOf(v1::FabricMethod id);
+
+// The method named `name` ("svbrdf"), or null; every name, comma-separated.
+const FabricMethod* MethodNamed(std::string_view name);
+std::string MethodNames();
 
 // The asset in `directory`, read by the method its manifest names (a manifest
 // without "method" is svbrdf's, as written before methods).

@@ -107,14 +107,11 @@ const FabricMethod& FabricTextures::method() const { return SvbrdfMethod(); }
 void FabricTextures::Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const {
   glBindTextureUnit(static_cast<GLuint>(first_unit), lut_);
   glBindTextureUnit(static_cast<GLuint>(first_unit + 1), params_);
-  program.Set("u_fabric_views", first_unit);
+  const FabricSurface surface{static_cast<int>(levels_), static_cast<int>(resolution_), static_cast<int>(view_side_),
+                              0, sampling_height_};
+  surface.Set(program, first_unit, repeat);
   program.Set("u_fabric_params", first_unit + 1);
   program.Set("u_fabric_lobes", static_cast<int>(lobes_));
-  program.Set("u_fabric_levels", static_cast<int>(levels_));
-  program.Set("u_fabric_resolution", static_cast<int>(resolution_));
-  program.Set("u_fabric_view_side", static_cast<int>(view_side_));
-  program.Set("u_fabric_repeat", repeat);
-  program.Set("u_fabric_sampling_height", sampling_height_);
 }
 
 }  // namespace loom

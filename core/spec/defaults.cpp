@@ -14,6 +14,7 @@ constexpr uint32_t kDefaultMaxAlternations = 8;
 constexpr uint32_t kDefaultMaxLmIterations = 50;
 constexpr uint32_t kDefaultIndirectBounces = 1;
 constexpr uint32_t kDefaultSupersampling = 2;  // 2×2 rays per texel
+constexpr uint32_t kDefaultFactoredRank = 4;
 
 // FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
 constexpr float kDefaultKnitYarnRadius = 0.07f;
@@ -160,6 +161,11 @@ v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (settings.supersampling() == 0) settings.set_supersampling(kDefaultSupersampling);
   if (!settings.has_half_float()) settings.set_half_float(true);
   if (settings.method() == v1::FABRIC_METHOD_UNSPECIFIED) settings.set_method(v1::FABRIC_METHOD_SVBRDF);
+  // Only the factored method's settings get its defaults: the others' keys and
+  // manifests stay as they were before it.
+  if (settings.method() == v1::FABRIC_METHOD_FACTORED && settings.factored().rank() == 0) {
+    settings.mutable_factored()->set_rank(kDefaultFactoredRank);
+  }
   return settings;
 }
 

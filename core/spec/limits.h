@@ -42,6 +42,9 @@ inline constexpr uint32_t kMaxLmIterations = 1000;
 inline constexpr uint32_t kMaxIndirectBounces = 2;
 // n×n rays per texel; 8×8 = 64 rays is far past visible convergence.
 inline constexpr uint32_t kMaxSupersampling = 8;
+// The factored method's terms per texel: each costs a texture fetch per light and
+// fragment, and as much memory as the rank-1 asset.
+inline constexpr uint32_t kMaxFactoredRank = 8;
 
 // --- FabricSpec ----------------------------------------------------------------
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <glm/glm.hpp>
+#include <numbers>
 #include <set>
 
 #include "core/scene/camera.h"
@@ -25,9 +26,10 @@ glm::dvec3 ToPixel(const v1::SceneSpec& scene, const glm::vec3& p) {
   return {(clip.x / clip.w * 0.5 + 0.5) * width, (0.5 - clip.y / clip.w * 0.5) * height, -view.z};
 }
 
-TEST(BenchScenes, EveryFabricAtEveryTiltAndDistanceAndOnTheSphere) {
+TEST(BenchScenes, EveryFabricAtEveryTiltAndDistanceOnTheSphereAndInEachVariant) {
   const std::vector<BenchScene> scenes = LoadBenchScenes(kBenchSet);
-  ASSERT_EQ(scenes.size(), 6u * (3 * 3 + 1));
+  // 3 tilts × 3 distances, the sphere, opposite-lit 2 tilts × 2 distances, close-ups at 2 tilts.
+  ASSERT_EQ(scenes.size(), 6u * (3 * 3 + 1 + 2 * 2 + 2));
   std::set<std::string> names, fabrics;
   for (const BenchScene& bench : scenes) {
     names.insert(bench.name);
@@ -36,6 +38,31 @@ TEST(BenchScenes, EveryFabricAtEveryTiltAndDistanceAndOnTheSphere) {
   }
   EXPECT_EQ(names.size(), scenes.size());
   EXPECT_EQ(fabrics, (std::set<std::string>{"stockinette", "rib2x2", "twocolour", "plain", "twill31", "satin5"}));
+}
+
+// Opposite-lit: the light comes from the side of the patch away from the camera
+// (the camera stands at −y of a tilted patch), 48° from the normal; close-ups: a
+// tile 128 pixels across, under the template's light.
+TEST(BenchScenes, VariantsChangeTheLightOrTheDistanceOnly) {
+  const std::vector<BenchScene> scenes = LoadBenchScenes(kBenchSet);
+  int opposite = 0, closeups = 0;
+  for (const BenchScene& bench : scenes) {
+    if (bench.variant == "opposite") {
+      ++opposite;
+      ASSERT_EQ(bench.scene.lights_size(), 1);
+      const v1::Vec3& d = bench.scene.lights(0).direction();
+      EXPECT_GT(d.y(), 0.0f) << bench.name;
+      EXPECT_LT(bench.scene.camera().position().y(), 0.0f) << bench.name;
+      EXPECT_NEAR(std::atan2(std::hypot(d.x(), d.y()), d.z()) * 180.0 / std::numbers::pi, 48.0, 0.1);
+      EXPECT_EQ(bench.name, bench.fabric + "." + bench.view + "." + bench.distance + ".opposite");
+    } else if (bench.variant == "closeup") {
+      ++closeups;
+      EXPECT_EQ(bench.tile_pixels, 128.0);
+      EXPECT_LT(bench.scene.lights(0).direction().y(), 0.0f) << bench.name;  // the template's light
+    }
+  }
+  EXPECT_EQ(opposite, 6 * 4);
+  EXPECT_EQ(closeups, 6 * 2);
 }
 
 TEST(BenchScenes, ATileSpansTheStatedPixelsAndThePatchFillsTheFrame) {

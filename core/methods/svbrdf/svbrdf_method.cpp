@@ -18,6 +18,7 @@ class Svbrdf final : public FabricMethod {
   // asset cached before methods keeps its key.
   v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
     settings.clear_method();
+    settings.clear_factored();
     return settings;
   }
 
@@ -36,6 +37,35 @@ class Svbrdf final : public FabricMethod {
 
 }  // namespace
 
+nlohmann::json SvbrdfFitFigures(const FittedFabric& fitted) {
+  nlohmann::json levels = nlohmann::json::array();
+  size_t texels = 0;
+  for (const FittedLevel& level : fitted.levels) {
+    const FitLevelStats& s = level.stats;
+    texels += level.brdfs.size();
+    levels.push_back({{"level", s.level},
+                      {"resolution", s.resolution},
+                      {"rmse_mean", s.rmse_mean},
+                      {"rmse_p95", s.rmse_p95},
+                      {"rmse_max", s.rmse_max},
+                      {"relative_rmse", s.relative_rmse},
+                      {"lm_iterations_per_texel", s.lm_iterations_per_texel},
+                      {"mean_alternations", s.mean_alternations},
+                      {"fallback_fewer_lobes", s.fewer_lobes},
+                      {"fallback_diffuse", s.diffuse_only},
+                      {"empty", s.empty},
+                      {"black", s.black},
+                      {"seconds", s.fit_seconds}});
+  }
+  return {{"method", "svbrdf"},
+          {"seconds", fitted.seconds},
+          {"texels", texels},
+          {"texels_per_second", fitted.seconds > 0 ? static_cast<double>(texels) / fitted.seconds : 0.0},
+          {"lobes", fitted.lobes},
+          {"lookup_table", fitted.lookup_table},
+          {"levels", levels}};
+}
+
 const FabricMethod& SvbrdfAsset::method() const { return SvbrdfMethod(); }
 
 void SvbrdfAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
@@ -45,6 +75,15 @@ void SvbrdfAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
 
 std::unique_ptr<GpuFabric> SvbrdfAsset::Upload(bool half) const {
   return std::make_unique<FabricTextures>(FabricTextureData::FromFit(fit_), half);
+}
+
+v1::PrecomputeSettings WithoutSvbrdfFit(v1::PrecomputeSettings settings) {
+  settings.clear_lobes();
+  settings.clear_lookup_table();
+  settings.clear_lut_change_threshold();
+  settings.clear_max_alternations();
+  settings.clear_max_lm_iterations();
+  return settings;
 }
 
 const FabricMethod& SvbrdfMethod() {

@@ -9,6 +9,10 @@
 
 namespace loom {
 
+// The fit's figures: its time, texels, lobes and per level the fit error, LM
+// iterations, alternations, fallbacks, empty and black texels.
+nlohmann::json SvbrdfFitFigures(const FittedFabric& fit);
+
 class SvbrdfAsset final : public FabricAsset {
  public:
   explicit SvbrdfAsset(FittedFabric fit) : fit_(std::move(fit)) {}
@@ -19,11 +23,16 @@ class SvbrdfAsset final : public FabricAsset {
              const std::filesystem::path& directory) const override;
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fit_.seconds; }
+  nlohmann::json Figures() const override { return SvbrdfFitFigures(fit_); }
 
  private:
   FittedFabric fit_;
 };
 
 const FabricMethod& SvbrdfMethod();
+
+// `settings` without svbrdf's fit (lobes, lookup_table, lut_change_threshold,
+// max_alternations, max_lm_iterations): what other methods' keys leave out.
+v1::PrecomputeSettings WithoutSvbrdfFit(v1::PrecomputeSettings settings);
 
 }  // namespace loom

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/acquire/hemisphere_directions.h"
+#include "core/methods/direction_grid.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
 
@@ -78,37 +79,6 @@ void ComputeAmbient(TabulatedLevel& level, size_t views, size_t lights) {
   }
 }
 
-// A direction's place on a k×k grid, clamped (tabulated.glsl LocateOnGrid): the
-// lower corner, the weights towards the upper one, and how far past the outermost
-// ring it lies.
-struct GridPoint {
-  glm::ivec2 lower, upper;
-  glm::vec2 weight;
-  float beyond_ring;
-};
-
-GridPoint Locate(glm::vec3 direction, uint32_t side) {
-  const float k = static_cast<float>(side);
-  const glm::vec2 unclamped = HemisphereGridCoordinates(direction, side);
-  const glm::vec2 grid = glm::clamp(unclamped, glm::vec2(0.0f), glm::vec2(k - 1.0f));
-  const glm::vec2 beyond = glm::max(-unclamped, unclamped - (k - 1.0f));
-  GridPoint point;
-  point.lower = glm::ivec2(glm::floor(grid));
-  point.upper = glm::min(point.lower + 1, glm::ivec2(static_cast<int>(side) - 1));
-  point.weight = grid - glm::vec2(point.lower);
-  point.beyond_ring = std::clamp(2.0f * std::max(beyond.x, beyond.y), 0.0f, 1.0f);
-  return point;
-}
-
-// Bilinear over the four grid points around `point`; value(index) at one of them.
-template <typename T, typename Value>
-T Bilinear(const GridPoint& point, uint32_t side, const Value& value) {
-  const auto at = [&](int col, int row) { return value(static_cast<size_t>(row) * side + static_cast<size_t>(col)); };
-  const T bottom = glm::mix(at(point.lower.x, point.lower.y), at(point.upper.x, point.lower.y), point.weight.x);
-  const T top = glm::mix(at(point.lower.x, point.upper.y), at(point.upper.x, point.upper.y), point.weight.x);
-  return glm::mix(bottom, top, point.weight.y);
-}
-
 }  // namespace
 
 TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels, float sampling_height) {
@@ -140,16 +110,15 @@ glm::vec4 EvaluateTabulated(const TabulatedFabric& fabric, uint32_t level_index,
   const size_t views = fabric.view_count(), lights = fabric.light_count();
   const uint32_t view_side = HemisphereGridSide(static_cast<uint32_t>(views));
   const uint32_t light_side = HemisphereGridSide(static_cast<uint32_t>(lights));
-  const GridPoint v = Locate(view, view_side);
-  const GridPoint l = Locate(light, light_side);
+  const GridPoint v = LocateOnGrid(view, view_side);
+  const GridPoint l = LocateOnGrid(light, light_side);
   const glm::vec3 radiance = Bilinear<glm::vec3>(v, view_side, [&](size_t stored_view) {
     return Bilinear<glm::vec3>(l, light_side, [&](size_t stored_light) {
       return level.radiance[(texel * views + stored_view) * lights + stored_light];
     });
   });
-  const float light_weight = light.z > 0.0f ? 1.0f - l.beyond_ring : 0.0f;
   const float alpha = Bilinear<float>(v, view_side, [&](size_t stored_view) { return level.alpha[texel * views + stored_view]; });
-  return {light_weight * radiance, glm::mix(alpha, 1.0f, v.beyond_ring)};
+  return {LightWeight(light, l) * radiance, glm::mix(alpha, 1.0f, v.beyond_ring)};
 }
 
 }  // namespace loom

@@ -9,6 +9,8 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/level_texture.h"
+#include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/spec/defaults.h"
 #include "core/spec/limits.h"
 #include "core/spec/spec_json.h"
@@ -47,22 +49,6 @@ std::vector<float> TableAtlas(const TabulatedFabric& fabric, const TabulatedLeve
   return pixels;
 }
 
-// Level `level`'s view atlas: ambient response RGB, alpha A.
-std::vector<float> ViewsAtlas(const TabulatedFabric& fabric, const TabulatedLevel& level) {
-  const size_t views = fabric.view_count();
-  const uint32_t k = Side(views);
-  std::vector<float> pixels(level.texel_count() * views * 4);
-  for (size_t texel = 0; texel < level.texel_count(); ++texel) {
-    for (size_t view = 0; view < views; ++view) {
-      float* pixel = &pixels[ViewAtlasPixel(texel, level.resolution, view, k) * 4];
-      const glm::vec3 ambient = level.ambient[texel * views + view];
-      std::copy_n(&ambient[0], 3, pixel);
-      pixel[3] = level.alpha[texel * views + view];
-    }
-  }
-  return pixels;
-}
-
 int TableSide(const TabulatedFabric& fabric, uint32_t resolution) {
   return static_cast<int>(resolution * Side(fabric.view_count()) * Side(fabric.light_count()));
 }
@@ -83,7 +69,7 @@ LevelImage TableImage(const TabulatedFabric& fabric) {
 LevelImage ViewsImage(const TabulatedFabric& fabric) {
   LevelImage image{{"R", "G", "B", "A"}, {}, {}};
   for (const TabulatedLevel& level : fabric.levels) {
-    image.pixels.push_back(ViewsAtlas(fabric, level));
+    image.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, fabric.view_count()));
     image.sides.push_back(ViewsSide(fabric, level.resolution));
   }
   return image;
@@ -92,76 +78,31 @@ LevelImage ViewsImage(const TabulatedFabric& fabric) {
 class TabulatedTextures final : public GpuFabric {
  public:
   TabulatedTextures(const TabulatedFabric& fabric, bool half)
-      : resolution_(fabric.levels.at(0).resolution),
-        levels_(static_cast<int>(fabric.levels.size())),
-        view_side_(static_cast<int>(Side(fabric.view_count()))),
-        light_side_(static_cast<int>(Side(fabric.light_count()))),
-        sampling_height_(fabric.sampling_height) {
-    glCreateTextures(GL_TEXTURE_2D, 1, &views_);
-    glCreateTextures(GL_TEXTURE_2D, 1, &table_);
-    glTextureStorage2D(views_, levels_, half ? GL_RGBA16F : GL_RGBA32F, ViewsSide(fabric, resolution_),
-                       ViewsSide(fabric, resolution_));
-    glTextureStorage2D(table_, levels_, half ? GL_RGB16F : GL_RGB32F, TableSide(fabric, resolution_),
-                       TableSide(fabric, resolution_));
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (int level = 0; level < levels_; ++level) {
+      : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
+                 static_cast<int>(Side(fabric.view_count())), static_cast<int>(Side(fabric.light_count())),
+                 fabric.sampling_height},
+        views_(surface_.levels, ViewsSide(fabric, fabric.levels[0].resolution), 4, half),
+        table_(surface_.levels, TableSide(fabric, fabric.levels[0].resolution), 3, half) {
+    for (int level = 0; level < surface_.levels; ++level) {
       const TabulatedLevel& data = fabric.levels[static_cast<size_t>(level)];
-      const int views_side = ViewsSide(fabric, data.resolution), table_side = TableSide(fabric, data.resolution);
-      glTextureSubImage2D(views_, level, 0, 0, views_side, views_side, GL_RGBA, GL_FLOAT,
-                          ViewsAtlas(fabric, data).data());
-      glTextureSubImage2D(table_, level, 0, 0, table_side, table_side, GL_RGB, GL_FLOAT,
-                          TableAtlas(fabric, data).data());
-    }
-    // Filtered linearly inside one level (between views, between lights); the
-    // shader chooses levels.
-    for (const GLuint texture : {views_, table_}) {
-      glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
-      glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-      glTextureParameteri(texture, GL_TEXTURE_MAX_LEVEL, levels_ - 1);
+      views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
+      table_.Upload(level, TableAtlas(fabric, data).data());
     }
   }
-  ~TabulatedTextures() override {
-    glDeleteTextures(1, &views_);
-    glDeleteTextures(1, &table_);
-  }
-  TabulatedTextures(const TabulatedTextures&) = delete;
-  TabulatedTextures& operator=(const TabulatedTextures&) = delete;
 
   const FabricMethod& method() const override { return TabulatedMethod(); }
 
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
-    glBindTextureUnit(static_cast<GLuint>(first_unit), views_);
-    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), table_);
-    program.Set("u_fabric_views", first_unit);
+    glBindTextureUnit(static_cast<GLuint>(first_unit), views_.id());
+    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), table_.id());
+    surface_.Set(program, first_unit, repeat);
     program.Set("u_fabric_table", first_unit + 1);
-    program.Set("u_fabric_levels", levels_);
-    program.Set("u_fabric_resolution", static_cast<int>(resolution_));
-    program.Set("u_fabric_view_side", view_side_);
-    program.Set("u_fabric_light_side", light_side_);
-    program.Set("u_fabric_repeat", repeat);
-    program.Set("u_fabric_sampling_height", sampling_height_);
   }
 
  private:
-  GLuint views_ = 0, table_ = 0;
-  uint32_t resolution_;
-  int levels_, view_side_, light_side_;
-  float sampling_height_;
+  FabricSurface surface_;
+  LevelTexture views_, table_;
 };
-
-// The direction count `field` of the manifest: a k×k grid within the caps.
-uint32_t DirectionCount(const json& manifest, const char* field, const std::function<Error(const std::string&)>& invalid) {
-  const auto count = manifest.at(field).get<int64_t>();
-  if (count < kMinDirections || count > kMaxDirections) {
-    throw invalid(std::string(field) + " " + std::to_string(count) + " is not in [" + std::to_string(kMinDirections) +
-                  ", " + std::to_string(kMaxDirections) + "]");
-  }
-  const auto side = static_cast<int64_t>(std::lround(std::sqrt(static_cast<double>(count))));
-  if (side * side != count) throw invalid(std::string(field) + " " + std::to_string(count) + " is not a k×k grid");
-  return static_cast<uint32_t>(count);
-}
 
 TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
   const std::filesystem::path manifest_path = directory / kManifestFile;
@@ -176,8 +117,8 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
                     std::to_string(kTabulatedFormatVersion));
     }
     TabulatedFabric fabric;
-    const uint32_t views = DirectionCount(manifest, "view_directions", invalid);
-    const uint32_t lights = DirectionCount(manifest, "light_directions", invalid);
+    const uint32_t views = ManifestDirectionCount(manifest, "view_directions", invalid);
+    const uint32_t lights = ManifestDirectionCount(manifest, "light_directions", invalid);
     CheckLevelChain(manifest.at("levels"), uint64_t{views} * lights, kMaxRadianceSamples, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(lights);
@@ -200,21 +141,15 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
     for (size_t j = 0; j < fabric.levels.size(); ++j) {
       TabulatedLevel& level = fabric.levels[j];
       const auto bad = [](float value) { return !(value >= 0.0f && std::isfinite(value)); };
-      if (std::any_of(tables[j].begin(), tables[j].end(), bad) ||
-          std::any_of(atlases[j].begin(), atlases[j].end(), bad)) {
+      if (std::any_of(tables[j].begin(), tables[j].end(), bad)) {
         throw invalid("level " + std::to_string(j) + " holds a negative or non-finite number");
       }
+      ReadAmbientAlphaAtlas(atlases[j], level.resolution, views, level.ambient, level.alpha, invalid);
       level.radiance.resize(level.texel_count() * views * lights);
-      level.ambient.resize(level.texel_count() * views);
-      level.alpha.resize(level.texel_count() * views);
       const size_t side = size_t(table_sides[j]);
       for (size_t texel = 0; texel < level.texel_count(); ++texel) {
         const size_t x = texel % level.resolution, y = texel / level.resolution;
         for (size_t view = 0; view < views; ++view) {
-          const float* pixel = &atlases[j][ViewAtlasPixel(texel, level.resolution, view, k) * 4];
-          level.ambient[texel * views + view] = glm::vec3(pixel[0], pixel[1], pixel[2]);
-          level.alpha[texel * views + view] = pixel[3];
-          if (pixel[3] > 1.0f) throw invalid("level " + std::to_string(j) + " has an alpha above 1");
           for (size_t light = 0; light < lights; ++light) {
             const size_t px = (x * k + view % k) * kl + light % kl, py = (y * k + view / k) * kl + light / kl;
             const float* value = &tables[j][(py * side + px) * 3];
@@ -237,13 +172,8 @@ class Tabulated final : public FabricMethod {
   uint32_t asset_format_version() const override { return kTabulatedFormatVersion; }
 
   v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
-    // svbrdf's fit: nothing of it reaches the table.
-    settings.clear_lobes();
-    settings.clear_lookup_table();
-    settings.clear_lut_change_threshold();
-    settings.clear_max_alternations();
-    settings.clear_max_lm_iterations();
-    return settings;
+    settings.clear_factored();
+    return WithoutSvbrdfFit(std::move(settings));
   }
 
   std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
@@ -272,10 +202,6 @@ void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::st
   std::filesystem::create_directories(directory);
   const std::string table_sha = WriteLevelImage(TableImage(fabric_), directory / kTableFile, half);
   const std::string views_sha = WriteLevelImage(ViewsImage(fabric_), directory / kViewsFile, half);
-  json levels = json::array();
-  for (size_t j = 0; j < fabric_.levels.size(); ++j) {
-    levels.push_back({{"level", j}, {"resolution", fabric_.levels[j].resolution}});
-  }
   const json manifest = {
       {"method", "tabulated"},
       {"asset_version", kTabulatedFormatVersion},
@@ -286,13 +212,25 @@ void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::st
       {"resolution", fabric_.levels.front().resolution},
       {"view_directions", fabric_.view_count()},
       {"light_directions", fabric_.light_count()},
-      {"levels", levels},
+      {"levels", Figures().at("levels")},
       {"build_seconds", fabric_.seconds},
       {"files",
        {{kTableFile, FileEntry(directory / kTableFile, table_sha)},
         {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}}},
   };
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
+}
+
+json TabulatedAsset::Figures() const {
+  json levels = json::array();
+  for (size_t j = 0; j < fabric_.levels.size(); ++j) {
+    levels.push_back({{"level", j}, {"resolution", fabric_.levels[j].resolution}});
+  }
+  return {{"method", "tabulated"},
+          {"seconds", fabric_.seconds},
+          {"view_directions", fabric_.view_count()},
+          {"light_directions", fabric_.light_count()},
+          {"levels", levels}};
 }
 
 std::unique_ptr<GpuFabric> TabulatedAsset::Upload(bool half) const {

@@ -27,6 +27,7 @@ class TabulatedAsset final : public FabricAsset {
              const std::filesystem::path& directory) const override;
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fabric_.seconds; }
+  nlohmann::json Figures() const override;
 
  private:
   TabulatedFabric fabric_;

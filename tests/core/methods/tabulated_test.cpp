@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,38 +11,16 @@
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/fabric_method.h"
 #include "core/methods/tabulated/tabulated_method.h"
-#include "core/render/gpu_renderer.h"
-#include "core/scene/camera.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
 #include "core/util/error.h"
+#include "tests/core/methods/method_test_data.h"
+#include "tests/core/methods/plane_probe.h"
 
 namespace loom {
 namespace {
-
-// Samples whose radiance varies smoothly with view and light and differs per texel
-// and channel (a tint per texel), with some (texel, view) pairs empty.
-RadianceSamples SyntheticSamples(uint32_t resolution, uint32_t views, uint32_t lights, bool holes) {
-  RadianceSamples samples(resolution, HemisphereGridDirections(views), HemisphereGridDirections(lights));
-  for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
-    const glm::vec3 tint(0.3f + 0.05f * static_cast<float>(texel % 7), 0.5f - 0.03f * static_cast<float>(texel % 5),
-                         0.2f + 0.04f * static_cast<float>(texel % 3));
-    for (size_t view = 0; view < samples.view_count(); ++view) {
-      const glm::vec3 v = samples.view_directions[view];
-      const bool empty = holes && (texel + view) % 5 == 0;
-      samples.alpha[samples.AlphaIndex(texel, view)] = empty ? 0.0f : 0.25f + 0.75f * v.z;
-      if (empty) continue;
-      for (size_t light = 0; light < samples.light_count(); ++light) {
-        const glm::vec3 l = samples.light_directions[light];
-        const float shape = l.z * (0.4f + 0.6f * std::pow(std::max(glm::dot(v, glm::vec3(-l.x, -l.y, l.z)), 0.0f), 3.0f));
-        samples.radiance[samples.RadianceIndex(texel, view, light)] = tint * shape;
-      }
-    }
-  }
-  return samples;
-}
 
 TEST(TabulatedFabric, LevelZeroHoldsTheSamplesAndReturnsThemAtTheStoredDirections) {
   const RadianceSamples samples = SyntheticSamples(4, 16, 16, false);
@@ -214,68 +190,17 @@ TEST(TabulatedKey, AnUnknownMethodIsRefusedNamingTheField) {
   EXPECT_NE(issues[0].message.find("9 is not a known FabricMethod value"), std::string::npos) << issues[0].message;
 }
 
-// A lit plane shaded by the tabulated method, each pixel against EvaluateTabulated
-// for that pixel's texel, view and light: the GLSL lookup (tile coordinate with
-// parallax, texel, view grid, light grid, both bilinear interpolations, the view
-// atlas's alpha) equals the C++ one.
+// The GLSL lookup (tile coordinate with parallax, texel, view grid, light grid, both
+// bilinear interpolations, the view atlas's alpha) equals the C++ one per pixel.
 TEST(TabulatedRender, GlslEqualsTheCppLookupPerPixel) {
   const TabulatedFabric fabric = TabulateFabric(SyntheticSamples(4, 64, 64, false), true, 0.05f);
-  const TabulatedAsset asset{TabulatedFabric(fabric)};
-  const float repeat = 3.0f;
-  const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(R"({
-    "objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
-                 "fabric": {"fabric": {"knit": {}}, "repeat_u": 3, "repeat_v": 3,
-                            "precompute": {"method": "FABRIC_METHOD_TABULATED"}}}],
-    "camera": {"position": {"x": 0.3, "y": -1.6, "z": 1.5}, "target": {"x": 0, "y": 0, "z": 0}, "fov_y_degrees": 60},
-    "lights": [{"direction": {"x": 0.3, "y": 0.7, "z": 1}, "intensity": 1.5}],
-    "render": {"width": 96, "height": 64, "msaa_samples": 1, "level_mode": "LEVEL_MODE_NONE",
-               "texel_filter": "TEXEL_FILTER_NEAREST"}})", "scene"));
-  ValidateOrThrow(scene);
-  const auto context = gl::EglContext::Create();
-  GpuRenderer renderer(*context);
-  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver("."));
-  const std::unique_ptr<GpuFabric> gpu = asset.Upload(/*half=*/false);
-  const RenderedFrame frame = renderer.Render(scene, meshes, {gpu.get()});
-
-  const int width = frame.image.width, height = frame.image.height;
-  const CameraMatrices camera = MakeCameraMatrices(scene.camera(), static_cast<float>(width) / height);
-  const glm::mat4 unproject = glm::inverse(camera.projection * camera.view);
-  const glm::vec3 light = glm::normalize(glm::vec3(0.3f, 0.7f, 1.0f));
-  const uint32_t resolution = fabric.levels[0].resolution;
-  int compared = 0;
-  double worst = 0.0;
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const glm::vec2 ndc((x + 0.5f) / width * 2.0f - 1.0f, 1.0f - (y + 0.5f) / height * 2.0f);
-      const glm::vec4 near = unproject * glm::vec4(ndc, -1.0f, 1.0f);
-      const glm::vec4 far = unproject * glm::vec4(ndc, 1.0f, 1.0f);
-      const glm::vec3 origin = glm::vec3(near) / near.w, through = glm::vec3(far) / far.w;
-      const glm::vec3 hit = origin + origin.z / (origin.z - through.z) * (through - origin);
-      if (std::abs(hit.x) > 0.97f || std::abs(hit.y) > 0.97f) continue;
-      const glm::vec3 view = glm::normalize(camera.position - hit);
-      // fabric_surface.glsl FabricTile: uv·repeat plus the parallax to the sampled face.
-      const glm::vec2 uv(0.5f * hit.x + 0.5f, 0.5f * hit.y + 0.5f);
-      const glm::vec2 tile = uv * repeat + glm::vec2(view) / std::max(view.z, 0.1f) * fabric.sampling_height;
-      const glm::vec2 at = glm::fract(tile) * static_cast<float>(resolution);
-      const glm::vec2 inside = at - glm::floor(at);
-      // Skip pixels on a texel's edge, where rounding may pick either texel.
-      if (glm::any(glm::lessThan(inside, glm::vec2(0.02f))) || glm::any(glm::greaterThan(inside, glm::vec2(0.98f)))) {
-        continue;
-      }
-      const glm::ivec2 texel = glm::min(glm::ivec2(at), glm::ivec2(static_cast<int>(resolution) - 1));
-      const glm::vec4 value = EvaluateTabulated(fabric, 0, size_t(texel.y) * resolution + texel.x, view, light);
-      // Premultiplied by alpha (cloth.glsl), over the black background.
-      const glm::vec3 expected = 1.5f * glm::vec3(value) * value.a;
-      for (int c = 0; c < 3; ++c) {
-        const double error = std::abs(frame.image.at(x, y, c) - expected[c]) / std::max(expected[c], 1e-3f);
-        worst = std::max(worst, error);
-      }
-      ++compared;
-    }
-  }
-  EXPECT_GT(compared, width * height / 5);
-  EXPECT_LT(worst, 1e-3) << "worst relative error over " << compared << " pixels";
-  std::printf("compared %d pixels, worst relative error %.5f%%\n", compared, 100.0 * worst);
+  const PlaneProbe probe = ProbePlane(TabulatedAsset(TabulatedFabric(fabric)), 4, fabric.sampling_height,
+                                      [&](size_t texel, glm::vec3 view, glm::vec3 light) {
+                                        return EvaluateTabulated(fabric, 0, texel, view, light);
+                                      });
+  EXPECT_GT(probe.compared, 96 * 64 / 5);
+  EXPECT_LT(probe.worst, 1e-3) << "over " << probe.compared << " pixels";
+  std::printf("compared %d pixels, worst relative error %.5f%%\n", probe.compared, 100.0 * probe.worst);
 }
 
 }  // namespace

@@ -1,0 +1,288 @@
+#include "core/methods/factored/factored_method.h"
+
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "core/acquire/hemisphere_directions.h"
+#include "core/methods/asset_files.h"
+#include "core/methods/level_texture.h"
+#include "core/methods/svbrdf/svbrdf_method.h"
+#include "core/spec/defaults.h"
+#include "core/spec/limits.h"
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom {
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kViewTermsFile = "view_terms.exr";
+constexpr const char* kLightTermsFile = "light_terms.exr";
+constexpr const char* kViewsFile = "views.exr";
+constexpr const char* kManifestFile = "manifest.json";
+// 1: the first layout.
+constexpr uint32_t kFactoredFormatVersion = 1;
+
+uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
+
+// The terms of one level over one grid (`count` stored directions), layer-major:
+// layer k is term k's direction atlas, RGB floats. `terms` is [(texel·K + k)·count + d].
+std::vector<std::vector<float>> TermLayers(const std::vector<glm::vec3>& terms, uint32_t rank, uint32_t resolution,
+                                           size_t count) {
+  const uint32_t k = Side(count);
+  const size_t texels = size_t{resolution} * resolution;
+  std::vector<std::vector<float>> layers(rank, std::vector<float>(texels * count * 3));
+  for (size_t texel = 0; texel < texels; ++texel) {
+    for (uint32_t term = 0; term < rank; ++term) {
+      for (size_t d = 0; d < count; ++d) {
+        const glm::vec3 value = terms[(texel * rank + term) * count + d];
+        std::copy_n(&value[0], 3, &layers[term][DirectionAtlasPixel(texel, resolution, d, k) * 3]);
+      }
+    }
+  }
+  return layers;
+}
+
+std::vector<std::string> TermChannels(char name, uint32_t rank) {
+  std::vector<std::string> channels;
+  for (uint32_t term = 0; term < rank; ++term) {
+    for (const char* c : {"R", "G", "B"}) channels.push_back(name + std::to_string(term) + "." + c);
+  }
+  return channels;
+}
+
+// One image of every level's terms over one grid, the layers interleaved as channels.
+template <typename Terms>
+LevelImage TermImage(const FactoredFabric& fabric, char name, size_t count, const Terms& terms_of) {
+  LevelImage image{TermChannels(name, fabric.rank), {}, {}};
+  for (const FactoredLevel& level : fabric.levels) {
+    const auto layers = TermLayers(terms_of(level), fabric.rank, level.resolution, count);
+    const size_t pixels = layers.empty() ? 0 : layers[0].size() / 3;
+    std::vector<float>& out = image.pixels.emplace_back(pixels * 3 * fabric.rank);
+    for (size_t p = 0; p < pixels; ++p) {
+      for (uint32_t term = 0; term < fabric.rank; ++term) {
+        std::copy_n(&layers[term][p * 3], 3, &out[(p * fabric.rank + term) * 3]);
+      }
+    }
+    image.sides.push_back(static_cast<int>(level.resolution * Side(count)));
+  }
+  return image;
+}
+
+// The inverse of TermImage for one level's pixels.
+std::vector<glm::vec3> TermsFromImage(const std::vector<float>& pixels, uint32_t rank, uint32_t resolution,
+                                      size_t count) {
+  const uint32_t k = Side(count);
+  const size_t texels = size_t{resolution} * resolution;
+  std::vector<glm::vec3> terms(texels * rank * count);
+  for (size_t texel = 0; texel < texels; ++texel) {
+    for (uint32_t term = 0; term < rank; ++term) {
+      for (size_t d = 0; d < count; ++d) {
+        const float* value = &pixels[(DirectionAtlasPixel(texel, resolution, d, k) * rank + term) * 3];
+        terms[(texel * rank + term) * count + d] = glm::vec3(value[0], value[1], value[2]);
+      }
+    }
+  }
+  return terms;
+}
+
+class FactoredTextures final : public GpuFabric {
+ public:
+  FactoredTextures(const FactoredFabric& fabric, bool half)
+      : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
+                 static_cast<int>(Side(fabric.view_count())), static_cast<int>(Side(fabric.light_count())),
+                 fabric.sampling_height},
+        rank_(static_cast<int>(fabric.rank)),
+        views_(surface_.levels, surface_.resolution * surface_.view_side, 4, half),
+        view_terms_(surface_.levels, surface_.resolution * surface_.view_side, 3, half, rank_),
+        light_terms_(surface_.levels, surface_.resolution * surface_.light_side, 3, half, rank_) {
+    for (int level = 0; level < surface_.levels; ++level) {
+      const FactoredLevel& data = fabric.levels[static_cast<size_t>(level)];
+      views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
+      const auto a = TermLayers(data.view_terms, fabric.rank, data.resolution, fabric.view_count());
+      const auto b = TermLayers(data.light_terms, fabric.rank, data.resolution, fabric.light_count());
+      for (int term = 0; term < rank_; ++term) {
+        view_terms_.Upload(level, a[static_cast<size_t>(term)].data(), term);
+        light_terms_.Upload(level, b[static_cast<size_t>(term)].data(), term);
+      }
+    }
+  }
+
+  const FabricMethod& method() const override { return FactoredMethod(); }
+
+  void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
+    glBindTextureUnit(static_cast<GLuint>(first_unit), views_.id());
+    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), view_terms_.id());
+    glBindTextureUnit(static_cast<GLuint>(first_unit + 2), light_terms_.id());
+    surface_.Set(program, first_unit, repeat);
+    program.Set("u_fabric_view_terms", first_unit + 1);
+    program.Set("u_fabric_light_terms", first_unit + 2);
+    program.Set("u_fabric_rank", rank_);
+  }
+
+ private:
+  FabricSurface surface_;
+  int rank_;
+  LevelTexture views_, view_terms_, light_terms_;
+};
+
+FactoredFabric ReadFactored(const std::filesystem::path& directory) {
+  const std::filesystem::path manifest_path = directory / kManifestFile;
+  const auto invalid = [&manifest_path](const std::string& what) {
+    return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
+  };
+  try {
+    const json manifest = json::parse(ReadFile(manifest_path));
+    if (manifest.at("method") != "factored") throw invalid("method is not factored");
+    if (manifest.at("asset_version").get<uint32_t>() != kFactoredFormatVersion) {
+      throw invalid("asset version " + manifest.at("asset_version").dump() + ", this engine reads " +
+                    std::to_string(kFactoredFormatVersion));
+    }
+    FactoredFabric fabric;
+    const uint32_t views = ManifestDirectionCount(manifest, "view_directions", invalid);
+    const uint32_t lights = ManifestDirectionCount(manifest, "light_directions", invalid);
+    const auto rank = manifest.at("rank").get<int64_t>();
+    if (rank < 1 || rank > kMaxFactoredRank) {
+      throw invalid("rank " + std::to_string(rank) + " is not in [1, " + std::to_string(kMaxFactoredRank) + "]");
+    }
+    fabric.rank = static_cast<uint32_t>(rank);
+    CheckLevelChain(manifest.at("levels"), uint64_t{views + lights} * fabric.rank,
+                    kMaxRadianceSamples / kMinDirections, invalid);
+    fabric.view_directions = HemisphereGridDirections(views);
+    fabric.light_directions = HemisphereGridDirections(lights);
+    fabric.sampling_height = manifest.at("sampling_height");
+    fabric.seconds = manifest.at("build_seconds");
+    if (!std::isfinite(fabric.sampling_height)) throw invalid("sampling_height is not finite");
+    std::vector<int> view_sides, light_sides;
+    for (const json& entry : manifest.at("levels")) {
+      FactoredLevel& level = fabric.levels.emplace_back();
+      level.resolution = entry.at("resolution");
+      level.relative_rmse = entry.at("relative_rmse");
+      view_sides.push_back(static_cast<int>(level.resolution * Side(views)));
+      light_sides.push_back(static_cast<int>(level.resolution * Side(lights)));
+    }
+    const json& files = manifest.at("files");
+    const auto a = ReadLevelImage(VerifiedFile(directory, files, kViewTermsFile, view_sides[0]), view_sides,
+                                  TermChannels('a', fabric.rank));
+    const auto b = ReadLevelImage(VerifiedFile(directory, files, kLightTermsFile, light_sides[0]), light_sides,
+                                  TermChannels('b', fabric.rank));
+    const auto atlases = ReadLevelImage(VerifiedFile(directory, files, kViewsFile, view_sides[0]), view_sides,
+                                        {"R", "G", "B", "A"});
+    for (size_t j = 0; j < fabric.levels.size(); ++j) {
+      FactoredLevel& level = fabric.levels[j];
+      const auto finite = [](float value) { return std::isfinite(value); };
+      if (!std::all_of(a[j].begin(), a[j].end(), finite) || !std::all_of(b[j].begin(), b[j].end(), finite)) {
+        throw invalid("level " + std::to_string(j) + " holds a non-finite term");
+      }
+      level.view_terms = TermsFromImage(a[j], fabric.rank, level.resolution, views);
+      level.light_terms = TermsFromImage(b[j], fabric.rank, level.resolution, lights);
+      ReadAmbientAlphaAtlas(atlases[j], level.resolution, views, level.ambient, level.alpha, invalid);
+    }
+    return fabric;
+  } catch (const json::exception& e) {
+    throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + " is not a valid manifest: " + e.what());
+  }
+}
+
+class Factored final : public FabricMethod {
+ public:
+  v1::FabricMethod id() const override { return v1::FABRIC_METHOD_FACTORED; }
+  std::string_view name() const override { return "factored"; }
+  std::string_view cloth_shader() const override { return "factored_cloth.frag"; }
+  uint32_t asset_format_version() const override { return kFactoredFormatVersion; }
+
+  v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
+    return WithoutSvbrdfFit(std::move(settings));
+  }
+
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+                                     const v1::PrecomputeSettings& settings,
+                                     const BuildProgress& progress) const override {
+    if (progress) progress(0.0, "tabulate");
+    const TabulatedFabric table =
+        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE, sampling_height);
+    FactoredFabric fabric = FactorFabric(table, settings.factored().rank(), 0, [&progress](double fraction) {
+      if (progress) progress(fraction, "factor");
+    });
+    fabric.seconds += table.seconds;
+    return std::make_unique<FactoredAsset>(std::move(fabric));
+  }
+
+  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+    return std::make_unique<FactoredAsset>(ReadFactored(directory));
+  }
+};
+
+}  // namespace
+
+const FabricMethod& FactoredAsset::method() const { return FactoredMethod(); }
+
+void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                          const std::filesystem::path& directory) const {
+  const v1::PrecomputeSettings resolved = WithDefaults(settings);
+  const bool half = resolved.half_float();
+  std::filesystem::create_directories(directory);
+  const auto view_terms = [](const FactoredLevel& level) -> const std::vector<glm::vec3>& { return level.view_terms; };
+  const auto light_terms = [](const FactoredLevel& level) -> const std::vector<glm::vec3>& { return level.light_terms; };
+  const std::string a_sha =
+      WriteLevelImage(TermImage(fabric_, 'a', fabric_.view_count(), view_terms), directory / kViewTermsFile, half);
+  const std::string b_sha =
+      WriteLevelImage(TermImage(fabric_, 'b', fabric_.light_count(), light_terms), directory / kLightTermsFile, half);
+  LevelImage views{{"R", "G", "B", "A"}, {}, {}};
+  for (const FactoredLevel& level : fabric_.levels) {
+    views.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, fabric_.view_count()));
+    views.sides.push_back(static_cast<int>(level.resolution * Side(fabric_.view_count())));
+  }
+  const std::string views_sha = WriteLevelImage(views, directory / kViewsFile, half);
+  const json manifest = {
+      {"method", "factored"},
+      {"asset_version", kFactoredFormatVersion},
+      {"fabric_key", fabric_key},
+      {"settings", json::parse(SpecToJson(resolved, false))},
+      {"rank", fabric_.rank},
+      {"sampling_height", fabric_.sampling_height},
+      {"half_float", half},
+      {"resolution", fabric_.levels.front().resolution},
+      {"view_directions", fabric_.view_count()},
+      {"light_directions", fabric_.light_count()},
+      {"levels", Figures().at("levels")},
+      {"build_seconds", fabric_.seconds},
+      {"files",
+       {{kViewTermsFile, FileEntry(directory / kViewTermsFile, a_sha)},
+        {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)},
+        {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}}},
+  };
+  WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
+}
+
+json FactoredAsset::Figures() const {
+  json levels = json::array();
+  for (size_t j = 0; j < fabric_.levels.size(); ++j) {
+    levels.push_back({{"level", j},
+                      {"resolution", fabric_.levels[j].resolution},
+                      {"relative_rmse", fabric_.levels[j].relative_rmse}});
+  }
+  return {{"method", "factored"},
+          {"seconds", fabric_.seconds},
+          {"rank", fabric_.rank},
+          {"view_directions", fabric_.view_count()},
+          {"light_directions", fabric_.light_count()},
+          {"levels", levels}};
+}
+
+std::unique_ptr<GpuFabric> FactoredAsset::Upload(bool half) const {
+  return std::make_unique<FactoredTextures>(fabric_, half);
+}
+
+const FabricMethod& FactoredMethod() {
+  static const Factored method;
+  return method;
+}
+
+}  // namespace loom

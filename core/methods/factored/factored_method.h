@@ -1,0 +1,38 @@
+#pragma once
+// The factored method (core/methods/fabric_method.h): per texel and level, K view
+// tables times K light tables (factored_fabric.h), shaded by
+// core/shaders/factored.glsl.
+//
+// Asset directory:
+//   view_terms.exr   A_k, channels a<k>.{R,G,B}: MIP level ℓ is level ℓ's direction
+//                    atlas over the views, (res_ℓ·k)² (asset_files.h DirectionAtlasPixel)
+//   light_terms.exr  B_k, channels b<k>.{R,G,B}: the same over the lights, (res_ℓ·k_l)²
+//   views.exr        the view atlas: ambient response RGB, alpha A
+//   manifest.json    method, asset version, key, settings, rank, sizes, per-level
+//                    factorisation error, checksums (last)
+// Half floats with settings.half_float, full floats otherwise, on disk and on the GPU.
+
+#include "core/methods/factored/factored_fabric.h"
+#include "core/methods/fabric_method.h"
+
+namespace loom {
+
+class FactoredAsset final : public FabricAsset {
+ public:
+  explicit FactoredAsset(FactoredFabric fabric) : fabric_(std::move(fabric)) {}
+  const FactoredFabric& fabric() const { return fabric_; }
+
+  const FabricMethod& method() const override;
+  void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+             const std::filesystem::path& directory) const override;
+  std::unique_ptr<GpuFabric> Upload(bool half) const override;
+  double build_seconds() const override { return fabric_.seconds; }
+  nlohmann::json Figures() const override;
+
+ private:
+  FactoredFabric fabric_;
+};
+
+const FabricMethod& FactoredMethod();
+
+}  // namespace loom

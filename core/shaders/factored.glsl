@@ -1,0 +1,35 @@
+// The factored method (core/methods/factored/factored_fabric.h): per texel and
+// level, Σ_k A_k(v)·B_k(l), the view tables interpolated between the stored views
+// and the light tables between the stored lights by the texture filter, the sum
+// clamped at 0. Directions in the tile (= surface) frame, as acquired. The view
+// atlas holds the ambient response and coverage alpha.
+
+#define LOOM_FABRIC_LIGHT_GRID
+#include "fabric_surface.glsl"
+
+const int kMaxFactoredRank = 8;  // as core/spec/limits.h kMaxFactoredRank
+
+uniform sampler2DArray u_fabric_view_terms;   // layer k, mip ℓ: A_k's (res_ℓ·k)² view atlas
+uniform sampler2DArray u_fabric_light_terms;  // layer k, mip ℓ: B_k's (res_ℓ·k_l)² light atlas
+uniform int u_fabric_rank;
+
+vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
+  vec4 views = FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
+  vec3 radiance = fragment.ambient * views.rgb;
+  float resolution = float(FabricResolution(level));
+  float k = float(u_fabric_view_side), kl = float(u_fabric_light_side);
+  vec2 view_at = (vec2(texel) * k + fragment.view_grid + 0.5) / (resolution * k);
+  vec3 a[kMaxFactoredRank];
+  for (int t = 0; t < u_fabric_rank; ++t) {
+    a[t] = textureLod(u_fabric_view_terms, vec3(view_at, float(t)), float(level)).rgb;
+  }
+  for (int i = 0; i < u_light_count; ++i) {
+    vec2 light_at = (vec2(texel) * kl + fragment.light_grid[i] + 0.5) / (resolution * kl);
+    vec3 sum = vec3(0.0);
+    for (int t = 0; t < u_fabric_rank; ++t) {
+      sum += a[t] * textureLod(u_fabric_light_terms, vec3(light_at, float(t)), float(level)).rgb;
+    }
+    radiance += fragment.light_irradiance[i] * fragment.light_weight[i] * max(sum, vec3(0.0));
+  }
+  return vec4(radiance, views.a);
+}

@@ -1,0 +1,5 @@
+#version 450 core
+// Cloth shaded by the factored method.
+
+#include "factored.glsl"
+#include "cloth.glsl"
