@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Issue 5's frame benchmark: svbrdf at 1920x1080 on the bench cloth
-# (scenes/cloth_1080p.json: the standard knit draped over a ball, on a floor, one
-# shadow-casting light), at the default settings (trilinear levels, bilinear texels),
-# with anisotropic levels and with nearest texels (the paper's lookup), each the
-# fastest of 5 frames of one renderer (the first compiles its shader variant and
-# allocates the shadow maps); then the reference of the same view once (64 samples
-# per pixel), svbrdf's PSNR and SSIM against it and the reference/svbrdf time ratio.
+# The frame benchmark (issues 5 and 23): every GPU fabric method at 1920x1080 on the
+# bench cloth (scenes/cloth_1080p.json: the standard knit draped over a ball, on a
+# floor, one shadow-casting light): svbrdf at the default settings (trilinear levels,
+# bilinear texels), with anisotropic levels and with nearest texels (the paper's
+# lookup), tabulated and factored at the defaults, each the fastest of 5 frames of one
+# renderer (the first compiles its shader variant and allocates the shadow maps);
+# then the reference of the same view once (64 samples per pixel), each method's
+# PSNR and SSIM against it and the reference/method time ratio.
 # Each render's figures are in OUT_DIR/*.json; a summary goes to stdout and
 # OUT_DIR/summary.txt.
 #
@@ -13,8 +14,8 @@
 #
 # --software: Mesa llvmpipe even on a GPU machine. LOOM_LAB: the loom-lab command
 # (default: build/lab/loom-lab of this checkout; the bundle's gpu_proof.sh passes
-# "run.sh loom-lab"). The fabric is precomputed once into OUT_DIR/fabrics (default
-# settings: ~18 s on 2 cores) and loaded from there afterwards.
+# "run.sh loom-lab"). Each method's fabric is precomputed once into OUT_DIR/fabrics
+# (svbrdf's default settings: ~18 s on 2 cores) and loaded from there afterwards.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -31,18 +32,21 @@ mkdir -p "$out"
 # A top-level number from one of loom-lab's --json objects.
 field() { sed -n "s/.*\"$1\":\([-0-9.e+]*\).*/\1/p" "$2"; }
 
-svbrdf() {  # NAME, then loom-lab render flags
-  local name=$1
-  shift
-  "${lab[@]}" --json render "$scene" --method svbrdf --fabric-cache "$out/fabrics" --frames 5 "${gl_flags[@]}" \
+gpu() {  # NAME METHOD, then loom-lab render flags
+  local name=$1 method=$2
+  shift 2
+  "${lab[@]}" --json render "$scene" --method "$method" --fabric-cache "$out/fabrics" --frames 5 "${gl_flags[@]}" \
     -o "$out/$name.exr" "$@" >"$out/$name.json"
 }
 
-svbrdf svbrdf
-svbrdf svbrdf-anisotropic --level-mode anisotropic
-svbrdf svbrdf-nearest --texel-filter nearest
+renders=(svbrdf svbrdf-anisotropic svbrdf-nearest tabulated factored)
+gpu svbrdf svbrdf
+gpu svbrdf-anisotropic svbrdf --level-mode anisotropic
+gpu svbrdf-nearest svbrdf --texel-filter nearest
+gpu tabulated tabulated
+gpu factored factored
 "${lab[@]}" --json render "$scene" --method reference -o "$out/reference.exr" >"$out/reference.json"
-for name in svbrdf svbrdf-anisotropic svbrdf-nearest; do
+for name in "${renders[@]}"; do
   "${lab[@]}" --json compare "$out/$name.exr" "$out/reference.exr" >"$out/$name-compare.json"
 done
 
@@ -50,7 +54,7 @@ reference_ms=$(field frame_ms "$out/reference.json")
 {
   sed -n 's/.*"gl_renderer":"\([^"]*\)".*/GL renderer: \1/p' "$out/svbrdf.json"
   printf '%-20s %10s %10s %10s %9s %7s %16s\n' render "frame ms" "GPU ms" "first ms" "PSNR dB" SSIM "reference/this"
-  for name in svbrdf svbrdf-anisotropic svbrdf-nearest; do
+  for name in "${renders[@]}"; do
     frame_ms=$(field frame_ms "$out/$name.json")
     printf '%-20s %10.1f %10.1f %10.1f %9.2f %7.3f %16.0f\n' "$name" "$frame_ms" "$(field gpu_ms "$out/$name.json")" \
       "$(field first_frame_ms "$out/$name.json")" "$(field psnr_db "$out/$name-compare.json")" \

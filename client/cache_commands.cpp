@@ -59,7 +59,7 @@ std::vector<ClientCommand> AddCacheCommands(CLI::App& app, ClientFlags& flags) {
 
   auto out = std::make_shared<std::string>();
   auto* get = add("get", "Download a cached fabric asset into a directory");
-  get->add_option("--out,-o", *out, "Directory to write parameters.exr, lut.exr, manifest.json into")->required();
+  get->add_option("--out,-o", *out, "Directory to write the asset's files (its method's images and manifest.json) into")->required();
   commands.push_back({get, [&flags, key, out] {
                         const v1::CachedFabric fabric = flags.Connect().DownloadFabric(*key, *out);
                         if (flags.json) PrintJson(fabric);

@@ -82,14 +82,27 @@ def lab_seeds():
         samples = (work / "tiny.samples").read_bytes()
         write("samples_fuzzer", "tiny_fixed_checksum", b"\0" + samples[:-64])
         write("samples_fuzzer", "tiny_as_is", b"\1" + samples)
-        subprocess.run([LAB, "precompute", work / "fabric.json", "--settings", work / "settings.json",
-                        "-o", work / "asset"], check=True, capture_output=True)
-        manifest = (work / "asset" / "manifest.json").read_bytes()
-        parameters = (work / "asset" / "parameters.exr").read_bytes()
-        lut = (work / "asset" / "lut.exr").read_bytes()
-        packed = struct.pack("<H", len(manifest)) + manifest + struct.pack("<I", len(parameters)) + parameters + lut
-        write("asset_fuzzer", "tiny_fixed_checksums", b"\0" + packed)
-        write("asset_fuzzer", "tiny_as_is", b"\1" + packed)
+        # One asset of each method, its files in the order asset_fuzzer.cpp unpacks them.
+        settings = json.loads((work / "settings.json").read_text())
+        for method, files in ASSET_FILES.items():
+            (work / f"{method}.json").write_text(json.dumps({**settings, "method": f"FABRIC_METHOD_{method.upper()}"}))
+            subprocess.run([LAB, "precompute", work / "fabric.json", "--settings", work / f"{method}.json",
+                            "-o", work / method], check=True, capture_output=True)
+            manifest = (work / method / "manifest.json").read_bytes()
+            images = [(work / method / name).read_bytes() for name in files]
+            packed = struct.pack("<H", len(manifest)) + manifest
+            packed += b"".join(struct.pack("<I", len(image)) + image for image in images[:-1]) + images[-1]
+            prefix = "tiny" if method == "svbrdf" else f"tiny_{method}"
+            write("asset_fuzzer", f"{prefix}_fixed_checksums", b"\0" + packed)
+            write("asset_fuzzer", f"{prefix}_as_is", b"\1" + packed)
+
+
+# Each method's images, as fuzz/asset_fuzzer.cpp unpacks them.
+ASSET_FILES = {
+    "svbrdf": ["parameters.exr", "lut.exr"],
+    "tabulated": ["table.exr", "views.exr"],
+    "factored": ["view_terms.exr", "light_terms.exr", "views.exr"],
+}
 
 
 def varint(n):

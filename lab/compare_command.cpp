@@ -39,6 +39,7 @@ LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags) {
                                         {"psnr_db", number(result.psnr_db)},
                                         {"ssim", number(result.ssim)},
                                         {"perceptual_error", number(1.0 - result.ssim)},
+                                        {"mean_ratio", number(result.mean_ratio)},
                                         {"peak", result.peak},
                                         {"width", result.width},
                                         {"height", result.height},
@@ -46,9 +47,9 @@ LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags) {
               if (!options->heat_map.empty()) figures["heatmap"] = options->heat_map;
               PrintJson(figures);
             } else {
-              std::printf("RMSE %.6g  PSNR %.2f dB  SSIM %.4f (perceptual error %.4f)  %dx%d, peak %.4g\n",
-                          result.rmse, result.psnr_db, result.ssim, 1.0 - result.ssim, result.width, result.height,
-                          result.peak);
+              std::printf("RMSE %.6g  PSNR %.2f dB  SSIM %.4f (perceptual error %.4f)  mean ratio %.4f  %dx%d, peak %.4g\n",
+                          result.rmse, result.psnr_db, result.ssim, 1.0 - result.ssim, result.mean_ratio, result.width,
+                          result.height, result.peak);
               if (result.non_finite_pixels > 0) {
                 std::printf("%zu pixel(s) NaN or Inf: the figures are undefined\n", result.non_finite_pixels);
               }

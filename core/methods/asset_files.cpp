@@ -9,6 +9,7 @@
 
 #include "core/image/exr_header.h"
 #include "core/spec/limits.h"
+#include "core/spec/spec_json.h"
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
 
@@ -185,6 +186,37 @@ uint32_t ManifestDirectionCount(const json& manifest, const char* field,
   const auto side = static_cast<int64_t>(std::lround(std::sqrt(static_cast<double>(count))));
   if (side * side != count) throw invalid(std::string(field) + " " + std::to_string(count) + " is not a k×k grid");
   return static_cast<uint32_t>(count);
+}
+
+json TableManifest(std::string_view method, uint32_t version, const std::string& fabric_key,
+                   const v1::PrecomputeSettings& resolved, const TableAssetHeader& header, const json& levels) {
+  return {{"method", method},
+          {"asset_version", version},
+          {"fabric_key", fabric_key},
+          {"settings", json::parse(SpecToJson(resolved, false))},
+          {"sampling_height", header.sampling_height},
+          {"half_float", resolved.half_float()},
+          {"resolution", header.resolution},
+          {"view_directions", header.views},
+          {"light_directions", header.lights},
+          {"levels", levels},
+          {"build_seconds", header.build_seconds}};
+}
+
+TableAssetHeader CheckTableManifest(const json& manifest, std::string_view method, uint32_t version,
+                                    const std::function<Error(const std::string&)>& invalid) {
+  if (manifest.at("method") != method) throw invalid("method is not " + std::string(method));
+  if (manifest.at("asset_version").get<uint32_t>() != version) {
+    throw invalid("asset version " + manifest.at("asset_version").dump() + ", this engine reads " +
+                  std::to_string(version));
+  }
+  TableAssetHeader header;
+  header.views = ManifestDirectionCount(manifest, "view_directions", invalid);
+  header.lights = ManifestDirectionCount(manifest, "light_directions", invalid);
+  header.sampling_height = manifest.at("sampling_height");
+  header.build_seconds = manifest.at("build_seconds");
+  if (!std::isfinite(header.sampling_height)) throw invalid("sampling_height is not finite");
+  return header;
 }
 
 json FileEntry(const std::filesystem::path& path, const std::string& sha256) {

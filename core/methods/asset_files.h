@@ -9,11 +9,13 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "core/util/error.h"
+#include "loom/v1/precompute.pb.h"
 
 namespace loom {
 
@@ -78,5 +80,25 @@ uint32_t ManifestDirectionCount(const nlohmann::json& manifest, const char* fiel
 // invalid(what) otherwise.
 void CheckLevelChain(const nlohmann::json& levels, uint64_t values_per_texel, uint64_t max_values,
                      const std::function<Error(const std::string&)>& invalid);
+
+// What the manifests of the direction-table methods (tabulated, factored) share.
+struct TableAssetHeader {
+  uint32_t views = 0, lights = 0;  // direction counts, k×k grids
+  uint32_t resolution = 0;         // level 0's texels a side
+  float sampling_height = 0.0f;
+  double build_seconds = 0.0;
+};
+
+// Such a manifest: method, asset_version, fabric_key, settings (`resolved`, defaults
+// applied), half_float, the header's fields and `levels`; the caller adds "files" and
+// its own fields.
+nlohmann::json TableManifest(std::string_view method, uint32_t version, const std::string& fabric_key,
+                             const v1::PrecomputeSettings& resolved, const TableAssetHeader& header,
+                             const nlohmann::json& levels);
+
+// Checks such a manifest's method, version, direction counts and sampling height
+// (invalid(what) otherwise) and returns its header.
+TableAssetHeader CheckTableManifest(const nlohmann::json& manifest, std::string_view method, uint32_t version,
+                                    const std::function<Error(const std::string&)>& invalid);
 
 }  // namespace loom

@@ -68,7 +68,7 @@ ImageComparison CompareImages(const Image& test, const Image& reference) {
   ImageComparison result;
   result.width = test.width;
   result.height = test.height;
-  double squared = 0.0;
+  double squared = 0.0, test_sum = 0.0, reference_sum = 0.0;
   for (int y = 0; y < test.height; ++y)
     for (int x = 0; x < test.width; ++x) {
       bool finite = true;
@@ -76,15 +76,20 @@ ImageComparison CompareImages(const Image& test, const Image& reference) {
         const double a = test.at(x, y, c), b = reference.at(x, y, c);
         finite = finite && std::isfinite(a) && std::isfinite(b);
         squared += (a - b) * (a - b);
+        test_sum += a;
+        reference_sum += b;
         if (std::isfinite(b)) result.peak = std::max(result.peak, b);
       }
       if (!finite) ++result.non_finite_pixels;
     }
   if (result.non_finite_pixels > 0) {
     // No figure describes such a pair; NaN keeps any mean or chart built on them honest.
-    result.rmse = result.psnr_db = result.ssim = std::numeric_limits<double>::quiet_NaN();
+    result.rmse = result.psnr_db = result.ssim = result.mean_ratio = std::numeric_limits<double>::quiet_NaN();
     return result;
   }
+  result.mean_ratio = reference_sum > 0.0   ? test_sum / reference_sum
+                      : test_sum == 0.0 ? 1.0
+                                        : std::numeric_limits<double>::infinity();
   const double mse = squared / (3.0 * test.width * test.height);
   result.rmse = std::sqrt(mse);
   const double peak = result.peak > 0.0 ? result.peak : 1.0;

@@ -28,6 +28,9 @@ struct ImageComparison {
   double psnr_db = 0.0;  // +inf when identical
   double ssim = 1.0;
   double peak = 0.0;     // over the reference's finite values
+  // Mean RGB radiance of the test image over the reference's (NaN like the others;
+  // +inf for a black reference under a non-black test).
+  double mean_ratio = 1.0;
   int width = 0, height = 0;
   // Pixels with a NaN or ±Inf in an RGB channel of either image.
   size_t non_finite_pixels = 0;

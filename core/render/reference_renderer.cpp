@@ -153,7 +153,7 @@ MacroSurface MakeMacroSurface(const TriangleMesh& mesh, const MacroHit& hit, glm
   glm::vec3 face = SafeNormalize(glm::cross(mesh.positions[corner[1]] - p0, mesh.positions[corner[2]] - p0), -direction);
   glm::vec3 n = SafeNormalize(interpolate(mesh.normals), face);
   if (glm::dot(face, n) < 0.0f) face = -face;
-  // Seen from behind, the frame turns towards the viewer (cloth.frag's gl_FrontFacing).
+  // Seen from behind, the frame turns towards the viewer (cloth.glsl's gl_FrontFacing).
   const float side = glm::dot(face, direction) > 0.0f ? -1.0f : 1.0f;
   surface.geometric_normal = face * side;
   surface.back = side < 0.0f;

@@ -87,6 +87,6 @@ void main() {
   vec4 shaded = ShadeFabric(v_uv, v_position, frame[2], frame[0], frame[1], view, u_ambient);
   // A hole writes no depth, so cloth drawn later behind it still shows.
   if (shaded.a < kMinCoverage) discard;
-  // Premultiplied: blended over what lies behind (SvbrdfRenderer draws cloth last).
+  // Premultiplied: blended over what lies behind (GpuRenderer draws cloth last).
   o_radiance = vec4(shaded.rgb * shaded.a, shaded.a);
 }

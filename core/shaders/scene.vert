@@ -1,6 +1,6 @@
 #version 450 core
 // Every scene object: world-space position, normal, tangent frame and uv for the
-// lighting in cloth.frag and opaque.frag. Meshes arrive in world space
+// lighting in the cloth programs (cloth.glsl) and opaque.frag. Meshes arrive in world space
 // (core/scene/scene_geometry.h).
 
 layout(location = 0) in vec3 a_position;

@@ -244,6 +244,17 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
   if (settings.method() == v1::FABRIC_METHOD_FACTORED) {
     at.Range("factored.rank", settings.factored().rank(), 1, kMaxFactoredRank);
   }
+  // Both keep every sample per level while they build (factored factors the table).
+  const bool tables = settings.method() == v1::FABRIC_METHOD_TABULATED || settings.method() == v1::FABRIC_METHOD_FACTORED;
+  if (tables && resolution <= kMaxSpatialResolution &&
+      settings.view_directions() <= kMaxDirections && settings.light_directions() <= kMaxDirections) {
+    const uint64_t samples =
+        uint64_t{resolution} * resolution * settings.view_directions() * settings.light_directions();
+    if (samples > kMaxTabulatedSamples) {
+      at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
+                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of tabulated and factored"));
+    }
+  }
 }
 
 // --- FabricSpec ----------------------------------------------------------------------

@@ -2,6 +2,7 @@
 """The Markdown tables of docs/results/README.md and plan.md, from the sweep CSVs.
 usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CSV...]] | tables.py seeds SEEDS_CSV SWEEP_CSV
        | tables.py variations DISTANCE FABRIC_KIND CSV... | tables.py change CONFIGURATION BASELINE SWEEP_CSV
+       | tables.py methods METHODS_CSV (bench/sweep_methods.json: every method against svbrdf's defaults)
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, re, statistics, sys
@@ -207,8 +208,40 @@ def change(configuration, baseline, path):
               f"{worst[0]:+.2f} ({worst[1]}) | {best[0]:+.2f} ({best[1]}) |")
     print(f"\nbetter by more than 0.1 dB on {sum(d > 0.1 for d in values)} scenes, worse on {sum(d < -0.1 for d in values)}")
 
+# A scene's group: its variant (opposite, closeup) or its distance.
+def group(scene):
+    parts = scene.split(".")
+    return parts[3] if len(parts) > 3 else parts[2]
+
+def methods(path):
+    table = rows(path)
+    order, by = [], {}
+    for r in table:
+        if r["configuration"] not in order:
+            order.append(r["configuration"])
+        by[(r["configuration"], r["scene"])] = r
+    scenes = sorted({r["scene"] for r in table if r["configuration"] == "default"})
+    groups = ["near", "mid", "far", "opposite", "closeup"]
+    print("| configuration | scenes | PSNR dB median (mean) | SSIM median | Δ PSNR vs svbrdf: median, worst, best | scenes > 0.5 dB worse | " +
+          " | ".join("median %s" % g for g in groups) + " | asset MB median | frame ms median |")
+    print("|---|---|---|---|---|---|" + "---|" * len(groups) + "---|---|")
+    for c in order:
+        mine = [s for s in scenes if (c, s) in by]
+        psnr = [num(by[(c, s)]["psnr_db"]) for s in mine]
+        ssim = [1 - num(by[(c, s)]["perceptual_error"]) for s in mine]
+        delta = finite([num(by[(c, s)]["psnr_db"]) - num(by[("default", s)]["psnr_db"]) for s in mine])
+        worse = sum(1 for d in delta if d < -0.5)
+        per_group = [med([num(by[(c, s)]["psnr_db"]) for s in mine if group(s) == g], "%.2f") for g in groups]
+        print("| %s | %d | %s (%.2f) | %s | %+.2f, %+.2f, %+.2f | %d | %s | %s | %s |" % (
+            c, len(mine), med(psnr, "%.2f"), statistics.mean(finite(psnr)), med(ssim, "%.3f"),
+            statistics.median(delta), min(delta), max(delta), worse, " | ".join(per_group),
+            med([num(by[(c, s)]["asset_bytes"]) / 1e6 for s in mine], "%.2f"),
+            med([num(by[(c, s)]["frame_ms"]) for s in mine], "%.0f")))
+
 if __name__ == "__main__":
-    if sys.argv[1] == "sweep":
+    if sys.argv[1] == "methods":
+        methods(sys.argv[2])
+    elif sys.argv[1] == "sweep":
         sweep(sys.argv[2])
     elif sys.argv[1] == "seeds":
         seeds(sys.argv[2], sys.argv[3])

@@ -246,41 +246,55 @@ TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) 
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
 
-TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameScene) {
+// For every fabric method: the worker precomputes the method's asset, and the served
+// frame equals the core render of the same scene from that cached asset.
+TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameSceneWithEveryMethod) {
   StartServer();
   client::JobClient client = Client();
-  const v1::SceneSpec scene = TinyScene();
-  const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
-  ASSERT_EQ(submitted.dependencies_size(), 1);  // the fabric was not cached
-  ASSERT_EQ(submitted.job().depends_on(0), submitted.dependencies(0).id());
-  const v1::Job done = WaitUntilEnded(client, submitted.job().id());
-  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
-  ASSERT_EQ(done.result_artifacts_size(), 1);
-  EXPECT_GT(done.timings().run_ms(), 0.0);  // the worker's own render time
-  EXPECT_LT(done.timings().run_ms(), static_cast<double>(done.timings().finished_ms() - done.timings().submitted_ms() + 1));
-  const Image served = ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
-
-  // The core render of the same scene with the same (cached) fitted fabric.
-  const auto asset = data_dir_ / "asset-copy";
-  const std::string key = FabricKey(KnitFabric(), TinySettings());
-  client.DownloadFabric(key, asset);
-  const std::unique_ptr<FabricAsset> fit = ReadAnyFabricAsset(asset);
-  const v1::SceneSpec full = WithDefaults(scene);
   const auto context = gl::EglContext::Create();
   GpuRenderer renderer(*context);
-  const Image core = RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, fit.get()}}).image;
-  const auto core_path = data_dir_ / "core.exr";
-  WriteImage(core, core_path);  // the same half-float quantisation as the served frame
-  const Image expected = ReadImage(core_path);
+  for (const v1::FabricMethod method :
+       {v1::FABRIC_METHOD_SVBRDF, v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED}) {
+    SCOPED_TRACE(v1::FabricMethod_Name(method));
+    v1::SceneSpec scene = TinyScene();
+    v1::PrecomputeSettings settings = TinySettings();
+    settings.set_method(method);
+    for (v1::SceneObject& object : *scene.mutable_objects()) {
+      if (object.has_fabric()) *object.mutable_fabric()->mutable_precompute() = settings;
+    }
+    const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
+    ASSERT_EQ(submitted.dependencies_size(), 1);  // the fabric was not cached
+    ASSERT_EQ(submitted.job().depends_on(0), submitted.dependencies(0).id());
+    const v1::Job done = WaitUntilEnded(client, submitted.job().id());
+    ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+    ASSERT_EQ(done.result_artifacts_size(), 1);
+    EXPECT_GT(done.timings().run_ms(), 0.0);  // the worker's own render time
+    EXPECT_LT(done.timings().run_ms(),
+              static_cast<double>(done.timings().finished_ms() - done.timings().submitted_ms() + 1));
+    const Image served = ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
 
-  ASSERT_EQ(served.width, 64);
-  ASSERT_EQ(served.height, 48);
-  ASSERT_EQ(served.pixels.size(), expected.pixels.size());
-  float max_difference = 0.0f;
-  for (size_t i = 0; i < served.pixels.size(); ++i) {
-    max_difference = std::max(max_difference, std::abs(served.pixels[i] - expected.pixels[i]));
+    // The core render of the same scene with the same cached asset, of this method.
+    const auto asset = data_dir_ / ("asset-copy-" + v1::FabricMethod_Name(method));
+    const std::string key = FabricKey(KnitFabric(), settings);
+    client.DownloadFabric(key, asset);
+    const std::unique_ptr<FabricAsset> fabric = ReadAnyFabricAsset(asset);
+    EXPECT_EQ(&fabric->method(), &MethodOf(method));
+    const v1::SceneSpec full = WithDefaults(scene);
+    const Image core =
+        RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, fabric.get()}}).image;
+    const auto core_path = data_dir_ / "core.exr";
+    WriteImage(core, core_path);  // the same half-float quantisation as the served frame
+    const Image expected = ReadImage(core_path);
+
+    ASSERT_EQ(served.width, 64);
+    ASSERT_EQ(served.height, 48);
+    ASSERT_EQ(served.pixels.size(), expected.pixels.size());
+    float max_difference = 0.0f;
+    for (size_t i = 0; i < served.pixels.size(); ++i) {
+      max_difference = std::max(max_difference, std::abs(served.pixels[i] - expected.pixels[i]));
+    }
+    EXPECT_EQ(max_difference, 0.0f) << "served frame differs from the core render";
   }
-  EXPECT_EQ(max_difference, 0.0f) << "served frame differs from the core render";
 }
 
 TEST_F(ServiceTest, MissingOrWrongTokenIsUnauthenticatedAndStoresNothing) {

@@ -65,7 +65,7 @@ TEST(StabilityGrazing, KnitFromEightyToEightyNineDegrees) {
 // A plain weave with 40% gaps over a red floor: head-on the floor shows through
 // the holes; at 85° the yarns hide it in the reference (the gaps close up along the
 // view). svbrdf's coverage is alpha(v) of the stored views, interpolated, and
-// towards 1 at the horizon beyond the outermost ring (core/shaders/fabric.glsl):
+// towards 1 at the horizon beyond the outermost ring (core/shaders/fabric_surface.glsl):
 // red fraction 0.057 against the reference's 0.003 (0.097 with nearest texels);
 // held at the 72° ring's alpha it was 0.33. The mean red is not compared: the floor is red.
 TEST(StabilityGrazing, LooseWeaveHolesCloseAtEightyFiveDegrees) {

@@ -139,14 +139,9 @@ FactoredFabric ReadFactored(const std::filesystem::path& directory) {
   };
   try {
     const json manifest = json::parse(ReadFile(manifest_path));
-    if (manifest.at("method") != "factored") throw invalid("method is not factored");
-    if (manifest.at("asset_version").get<uint32_t>() != kFactoredFormatVersion) {
-      throw invalid("asset version " + manifest.at("asset_version").dump() + ", this engine reads " +
-                    std::to_string(kFactoredFormatVersion));
-    }
+    const TableAssetHeader header = CheckTableManifest(manifest, "factored", kFactoredFormatVersion, invalid);
+    const uint32_t views = header.views, lights = header.lights;
     FactoredFabric fabric;
-    const uint32_t views = ManifestDirectionCount(manifest, "view_directions", invalid);
-    const uint32_t lights = ManifestDirectionCount(manifest, "light_directions", invalid);
     const auto rank = manifest.at("rank").get<int64_t>();
     if (rank < 1 || rank > kMaxFactoredRank) {
       throw invalid("rank " + std::to_string(rank) + " is not in [1, " + std::to_string(kMaxFactoredRank) + "]");
@@ -156,9 +151,8 @@ FactoredFabric ReadFactored(const std::filesystem::path& directory) {
                     kMaxRadianceSamples / kMinDirections, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(lights);
-    fabric.sampling_height = manifest.at("sampling_height");
-    fabric.seconds = manifest.at("build_seconds");
-    if (!std::isfinite(fabric.sampling_height)) throw invalid("sampling_height is not finite");
+    fabric.sampling_height = header.sampling_height;
+    fabric.seconds = header.build_seconds;
     std::vector<int> view_sides, light_sides;
     for (const json& entry : manifest.at("levels")) {
       FactoredLevel& level = fabric.levels.emplace_back();
@@ -240,24 +234,15 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
     views.sides.push_back(static_cast<int>(level.resolution * Side(fabric_.view_count())));
   }
   const std::string views_sha = WriteLevelImage(views, directory / kViewsFile, half);
-  const json manifest = {
-      {"method", "factored"},
-      {"asset_version", kFactoredFormatVersion},
-      {"fabric_key", fabric_key},
-      {"settings", json::parse(SpecToJson(resolved, false))},
-      {"rank", fabric_.rank},
-      {"sampling_height", fabric_.sampling_height},
-      {"half_float", half},
-      {"resolution", fabric_.levels.front().resolution},
-      {"view_directions", fabric_.view_count()},
-      {"light_directions", fabric_.light_count()},
-      {"levels", Figures().at("levels")},
-      {"build_seconds", fabric_.seconds},
-      {"files",
-       {{kViewTermsFile, FileEntry(directory / kViewTermsFile, a_sha)},
-        {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)},
-        {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}}},
-  };
+  const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
+                                static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
+                                fabric_.sampling_height, fabric_.seconds};
+  json manifest = TableManifest("factored", kFactoredFormatVersion, fabric_key, resolved, header,
+                                Figures().at("levels"));
+  manifest["rank"] = fabric_.rank;
+  manifest["files"] = {{kViewTermsFile, FileEntry(directory / kViewTermsFile, a_sha)},
+                       {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)},
+                       {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}};
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
 }
 

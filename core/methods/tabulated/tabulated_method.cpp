@@ -111,20 +111,14 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
   };
   try {
     const json manifest = json::parse(ReadFile(manifest_path));
-    if (manifest.at("method") != "tabulated") throw invalid("method is not tabulated");
-    if (manifest.at("asset_version").get<uint32_t>() != kTabulatedFormatVersion) {
-      throw invalid("asset version " + manifest.at("asset_version").dump() + ", this engine reads " +
-                    std::to_string(kTabulatedFormatVersion));
-    }
+    const TableAssetHeader header = CheckTableManifest(manifest, "tabulated", kTabulatedFormatVersion, invalid);
+    const uint32_t views = header.views, lights = header.lights;
+    CheckLevelChain(manifest.at("levels"), uint64_t{views} * lights, kMaxTabulatedSamples, invalid);
     TabulatedFabric fabric;
-    const uint32_t views = ManifestDirectionCount(manifest, "view_directions", invalid);
-    const uint32_t lights = ManifestDirectionCount(manifest, "light_directions", invalid);
-    CheckLevelChain(manifest.at("levels"), uint64_t{views} * lights, kMaxRadianceSamples, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(lights);
-    fabric.sampling_height = manifest.at("sampling_height");
-    fabric.seconds = manifest.at("build_seconds");
-    if (!std::isfinite(fabric.sampling_height)) throw invalid("sampling_height is not finite");
+    fabric.sampling_height = header.sampling_height;
+    fabric.seconds = header.build_seconds;
     std::vector<int> table_sides, views_sides;
     for (const json& entry : manifest.at("levels")) {
       TabulatedLevel& level = fabric.levels.emplace_back();
@@ -202,22 +196,13 @@ void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::st
   std::filesystem::create_directories(directory);
   const std::string table_sha = WriteLevelImage(TableImage(fabric_), directory / kTableFile, half);
   const std::string views_sha = WriteLevelImage(ViewsImage(fabric_), directory / kViewsFile, half);
-  const json manifest = {
-      {"method", "tabulated"},
-      {"asset_version", kTabulatedFormatVersion},
-      {"fabric_key", fabric_key},
-      {"settings", json::parse(SpecToJson(resolved, false))},
-      {"sampling_height", fabric_.sampling_height},
-      {"half_float", half},
-      {"resolution", fabric_.levels.front().resolution},
-      {"view_directions", fabric_.view_count()},
-      {"light_directions", fabric_.light_count()},
-      {"levels", Figures().at("levels")},
-      {"build_seconds", fabric_.seconds},
-      {"files",
-       {{kTableFile, FileEntry(directory / kTableFile, table_sha)},
-        {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}}},
-  };
+  const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
+                                static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
+                                fabric_.sampling_height, fabric_.seconds};
+  json manifest = TableManifest("tabulated", kTabulatedFormatVersion, fabric_key, resolved, header,
+                                Figures().at("levels"));
+  manifest["files"] = {{kTableFile, FileEntry(directory / kTableFile, table_sha)},
+                       {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}};
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
 }
 

@@ -181,6 +181,19 @@ TEST(TabulatedKey, TheKeyChangesWithTheMethodAndIgnoresSvbrdfsFitSettings) {
   EXPECT_NE(FabricKey(fabric, svbrdf), FabricKey(fabric, three_lobes));
 }
 
+TEST(TabulatedKey, MoreSamplesThanTabulatedsCapAreRefused) {
+  v1::PrecomputeSettings settings;
+  settings.set_method(v1::FABRIC_METHOD_TABULATED);
+  settings.set_light_directions(256);
+  EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());  // 32² × 64 × 256: the cap
+  settings.set_light_directions(324);
+  const ValidationIssues issues = Validate(WithDefaults(settings), "precompute");
+  ASSERT_EQ(issues.size(), 1u);
+  EXPECT_NE(issues[0].message.find("exceeds 16777216, the cap of tabulated and factored"), std::string::npos) << issues[0].message;
+  settings.set_method(v1::FABRIC_METHOD_SVBRDF);
+  EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());
+}
+
 TEST(TabulatedKey, AnUnknownMethodIsRefusedNamingTheField) {
   v1::PrecomputeSettings settings = WithDefaults(v1::PrecomputeSettings());
   settings.set_method(static_cast<v1::FabricMethod>(9));

@@ -36,6 +36,8 @@ TEST(ImageMetrics, ConstantOffsetGivesKnownRmseAndPsnr) {
   EXPECT_NEAR(result.rmse, 0.1, 1e-6);
   EXPECT_NEAR(result.psnr_db, 20.0, 1e-4);  // peak 1, MSE 0.01
   EXPECT_EQ(result.peak, 1.0);
+  EXPECT_NEAR(result.mean_ratio, 0.9, 1e-6);
+  EXPECT_EQ(CompareImages(reference, reference).mean_ratio, 1.0);
 }
 
 TEST(ImageMetrics, NonFinitePixelsAreCountedAndGiveNoScore) {
@@ -50,6 +52,7 @@ TEST(ImageMetrics, NonFinitePixelsAreCountedAndGiveNoScore) {
   EXPECT_TRUE(std::isnan(result.psnr_db));
   EXPECT_TRUE(std::isnan(result.rmse));
   EXPECT_TRUE(std::isnan(result.ssim));
+  EXPECT_TRUE(std::isnan(result.mean_ratio));
   // A NaN in the reference counts too, and its peak stays the finite values' largest.
   const ImageComparison swapped = CompareImages(reference, test);
   EXPECT_EQ(swapped.non_finite_pixels, 2u);

@@ -311,7 +311,7 @@ TEST(SvbrdfFabric, TwoStackedLayersOfClothDoNotShareTheirHoles) {
 }
 
 // Beyond the outermost stored ring of views alpha rises linearly (in grid
-// coordinates) to 1 at the horizon: holes close at grazing (fabric.glsl). A white
+// coordinates) to 1 at the horizon: holes close at grazing (fabric_surface.glsl). A white
 // fabric with alpha 0.5 from every stored view, over nothing (black): a pixel shows
 // alpha · 2/π. Head-on the view is inside the 3×3 grid's outermost ring (56°); at
 // 80° it is 0.73 of the way from that ring to the horizon.
