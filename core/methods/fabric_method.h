@@ -47,6 +47,9 @@ class GpuFabric {
   // atlas first) and sets the fabric uniforms of `program`, the method's cloth
   // program or the shadow pass's.
   virtual void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const = 0;
+  // "#define NAME VALUE\n" lines the method's cloth program is compiled with for this
+  // asset (a loop bound the compiler may then unroll); one program per distinct set.
+  virtual std::string ShaderDefines() const { return {}; }
 };
 
 // A fabric asset in CPU memory: built from samples, or read from an asset directory.

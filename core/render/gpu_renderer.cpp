@@ -109,8 +109,9 @@ gl::ShaderProgram OpaqueProgram() {
 GpuRenderer::GpuRenderer(gl::EglContext& context)
     : context_(context), opaque_program_((context.MakeCurrent(), OpaqueProgram())) {}
 
-gl::ShaderProgram& GpuRenderer::ClothProgramFor(const FabricMethod& method, const v1::RenderSettings& settings) {
-  std::string defines;
+gl::ShaderProgram& GpuRenderer::ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings) {
+  const FabricMethod& method = fabric.method();
+  std::string defines = fabric.ShaderDefines();
   if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
   if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
   const std::string key = std::string(method.cloth_shader()) + "\n" + defines;
@@ -133,7 +134,7 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   std::vector<const gl::ShaderProgram*> programs = {&opaque_program_};
   for (size_t i = 0; i < meshes.size() && i < fabrics.size(); ++i) {
     if (fabrics[i] == nullptr) continue;
-    cloth[i] = &ClothProgramFor(fabrics[i]->method(), settings);
+    cloth[i] = &ClothProgramFor(*fabrics[i], settings);
     if (std::find(programs.begin(), programs.end(), cloth[i]) == programs.end()) programs.push_back(cloth[i]);
   }
   const auto cloth_programs = std::span(programs).subspan(1);

@@ -44,12 +44,13 @@ class GpuRenderer {
                        const std::vector<const GpuFabric*>& fabrics);
 
  private:
-  // The cloth program of `method` for the scene's level mode and texel filter.
+  // The cloth program of `fabric`'s method, with the fabric's own defines, for the
+  // scene's level mode and texel filter.
   // Anisotropic levels and bilinear texels are compiles of their own
   // (core/shaders/cloth.glsl: llvmpipe runs both sides of a branch, even on a
   // uniform), each made the first time a scene asks for it, keyed by its shader and
   // defines.
-  gl::ShaderProgram& ClothProgramFor(const FabricMethod& method, const v1::RenderSettings& settings);
+  gl::ShaderProgram& ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings);
 
   gl::EglContext& context_;
   std::map<std::string, gl::ShaderProgram> cloth_programs_;  // by shader and defines

@@ -7,11 +7,12 @@
 #define LOOM_FABRIC_LIGHT_GRID
 #include "fabric_surface.glsl"
 
-const int kMaxFactoredRank = 8;  // as core/spec/limits.h kMaxFactoredRank
+// The asset's rank, compiled in (FactoredTextures::ShaderDefines): constant loop
+// bounds, which llvmpipe unrolls.
+const int kRank = LOOM_FACTORED_RANK;
 
 uniform sampler2DArray u_fabric_view_terms;   // layer k, mip ℓ: A_k's (res_ℓ·k)² view atlas
 uniform sampler2DArray u_fabric_light_terms;  // layer k, mip ℓ: B_k's (res_ℓ·k_l)² light atlas
-uniform int u_fabric_rank;
 
 vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
   vec4 views = FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
@@ -19,14 +20,14 @@ vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
   float resolution = float(FabricResolution(level));
   float k = float(u_fabric_view_side), kl = float(u_fabric_light_side);
   vec2 view_at = (vec2(texel) * k + fragment.view_grid + 0.5) / (resolution * k);
-  vec3 a[kMaxFactoredRank];
-  for (int t = 0; t < u_fabric_rank; ++t) {
+  vec3 a[kRank];
+  for (int t = 0; t < kRank; ++t) {
     a[t] = textureLod(u_fabric_view_terms, vec3(view_at, float(t)), float(level)).rgb;
   }
   for (int i = 0; i < u_light_count; ++i) {
     vec2 light_at = (vec2(texel) * kl + fragment.light_grid[i] + 0.5) / (resolution * kl);
     vec3 sum = vec3(0.0);
-    for (int t = 0; t < u_fabric_rank; ++t) {
+    for (int t = 0; t < kRank; ++t) {
       sum += a[t] * textureLod(u_fabric_light_terms, vec3(light_at, float(t)), float(level)).rgb;
     }
     radiance += fragment.light_irradiance[i] * fragment.light_weight[i] * max(sum, vec3(0.0));

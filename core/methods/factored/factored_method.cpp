@@ -123,8 +123,9 @@ class FactoredTextures final : public GpuFabric {
     surface_.Set(program, first_unit, repeat);
     program.Set("u_fabric_view_terms", first_unit + 1);
     program.Set("u_fabric_light_terms", first_unit + 2);
-    program.Set("u_fabric_rank", rank_);
   }
+
+  std::string ShaderDefines() const override { return "#define LOOM_FACTORED_RANK " + std::to_string(rank_) + "\n"; }
 
  private:
   FabricSurface surface_;
