@@ -8,7 +8,11 @@
 #include "fabric_surface.glsl"
 
 // The asset's rank, compiled in (FactoredTextures::ShaderDefines): constant loop
-// bounds, which llvmpipe unrolls.
+// bounds, which llvmpipe unrolls. Every program the renderer makes defines it; without
+// it (the file compiled on its own, as a test does) the bound is the largest rank.
+#ifndef LOOM_FACTORED_RANK
+#define LOOM_FACTORED_RANK 8  // core/spec/limits.h kMaxFactoredRank
+#endif
 const int kRank = LOOM_FACTORED_RANK;
 
 uniform sampler2DArray u_fabric_view_terms;   // layer k, mip ℓ: A_k's (res_ℓ·k)² view atlas

@@ -15,6 +15,7 @@ constexpr uint32_t kDefaultMaxLmIterations = 50;
 constexpr uint32_t kDefaultIndirectBounces = 1;
 constexpr uint32_t kDefaultSupersampling = 2;  // 2×2 rays per texel
 constexpr uint32_t kDefaultFactoredRank = 4;
+constexpr uint32_t kDefaultTableViewDirections = 81;  // 9×9, for tabulated and factored
 
 // FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
 constexpr float kDefaultKnitYarnRadius = 0.07f;
@@ -149,7 +150,10 @@ uint32_t SmallestSatinMove(uint32_t n) {
 
 v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (settings.spatial_resolution() == 0) settings.set_spatial_resolution(kDefaultSpatialResolution);
-  if (settings.view_directions() == 0) settings.set_view_directions(kDefaultDirections);
+  // The table methods interpolate the stored views themselves: an odd grid puts a view
+  // at the zenith, which head-on views then need not blend with parallax (docs/accuracy.md).
+  const bool tables = settings.method() == v1::FABRIC_METHOD_TABULATED || settings.method() == v1::FABRIC_METHOD_FACTORED;
+  if (settings.view_directions() == 0) settings.set_view_directions(tables ? kDefaultTableViewDirections : kDefaultDirections);
   if (settings.light_directions() == 0) settings.set_light_directions(kDefaultDirections);
   if (settings.lobes() == 0) settings.set_lobes(kDefaultLobes);
   if (!settings.has_lookup_table()) settings.set_lookup_table(true);

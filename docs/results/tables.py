@@ -220,6 +220,9 @@ def methods(path):
         if r["configuration"] not in order:
             order.append(r["configuration"])
         by[(r["configuration"], r["scene"])] = r
+    first = ["default", "tabulated", "factored"]  # each method at its defaults, then the variations
+    appearance = list(order)
+    order.sort(key=lambda c: (first.index(c) if c in first else len(first), appearance.index(c)))
     scenes = sorted({r["scene"] for r in table if r["configuration"] == "default"})
     groups = ["near", "mid", "far", "opposite", "closeup"]
     print("| configuration | scenes | PSNR dB median (mean) | SSIM median | Δ PSNR vs svbrdf: median, worst, best | scenes > 0.5 dB worse | " +

@@ -113,6 +113,9 @@ TEST(FactoredSettings, TheRankDefaultsToFourIsBoundedAndKeyed) {
   v1::PrecomputeSettings settings;
   settings.set_method(v1::FABRIC_METHOD_FACTORED);
   EXPECT_EQ(WithDefaults(settings).factored().rank(), 4u);
+  // The table methods' view grid is 9×9 (a view at the zenith), svbrdf's 8×8.
+  EXPECT_EQ(WithDefaults(settings).view_directions(), 81u);
+  EXPECT_EQ(WithDefaults(v1::PrecomputeSettings()).view_directions(), 64u);
   settings.mutable_factored()->set_rank(9);
   const ValidationIssues issues = Validate(WithDefaults(settings), "precompute");
   ASSERT_EQ(issues.size(), 1u);

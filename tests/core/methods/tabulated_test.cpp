@@ -184,6 +184,7 @@ TEST(TabulatedKey, TheKeyChangesWithTheMethodAndIgnoresSvbrdfsFitSettings) {
 TEST(TabulatedKey, MoreSamplesThanTabulatedsCapAreRefused) {
   v1::PrecomputeSettings settings;
   settings.set_method(v1::FABRIC_METHOD_TABULATED);
+  settings.set_view_directions(64);
   settings.set_light_directions(256);
   EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());  // 32² × 64 × 256: the cap
   settings.set_light_directions(324);
