@@ -148,12 +148,17 @@ uint32_t SmallestSatinMove(uint32_t n) {
   return 0;
 }
 
+bool IsTableMethod(v1::FabricMethod method) {
+  return method == v1::FABRIC_METHOD_TABULATED || method == v1::FABRIC_METHOD_FACTORED;
+}
+
 v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (settings.spatial_resolution() == 0) settings.set_spatial_resolution(kDefaultSpatialResolution);
   // The table methods interpolate the stored views themselves: an odd grid puts a view
   // at the zenith, which head-on views then need not blend with parallax (docs/accuracy.md).
-  const bool tables = settings.method() == v1::FABRIC_METHOD_TABULATED || settings.method() == v1::FABRIC_METHOD_FACTORED;
-  if (settings.view_directions() == 0) settings.set_view_directions(tables ? kDefaultTableViewDirections : kDefaultDirections);
+  if (settings.view_directions() == 0) {
+    settings.set_view_directions(IsTableMethod(settings.method()) ? kDefaultTableViewDirections : kDefaultDirections);
+  }
   if (settings.light_directions() == 0) settings.set_light_directions(kDefaultDirections);
   if (settings.lobes() == 0) settings.set_lobes(kDefaultLobes);
   if (!settings.has_lookup_table()) settings.set_lookup_table(true);

@@ -19,6 +19,11 @@ v1::RenderSettings WithDefaults(v1::RenderSettings settings);
 // Applies the defaults of every nested fabric, precompute and render setting too.
 v1::SceneSpec WithDefaults(v1::SceneSpec scene);
 
+// The methods whose assets are tables over the stored directions (tabulated, and
+// factored, which factors the table): they keep every sample per level while they
+// build, and interpolate the stored views themselves (their own defaults and cap).
+bool IsTableMethod(v1::FabricMethod method);
+
 // The smallest tile of a knit pattern, in loops: wales and courses of a tile are
 // multiples of it. Stockinette and reverse 1×1, garter 1×2, rib
 // (rib_knit + rib_purl)×1, seed 2×2. Unspecified counts as stockinette.

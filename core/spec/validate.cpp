@@ -233,6 +233,11 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
       at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
                     " radiance samples exceeds ", kMaxRadianceSamples));
     }
+    // The table methods keep every sample per level while they build.
+    if (IsTableMethod(settings.method()) && samples > kMaxTabulatedSamples) {
+      at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
+                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of tabulated and factored"));
+    }
   }
   at.Range("lobes", settings.lobes(), kMinLobes, kMaxLobes);
   at.Above("lut_change_threshold", settings.lut_change_threshold(), 0.0f);
@@ -243,17 +248,6 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
   at.Range("supersampling", settings.supersampling(), 1, kMaxSupersampling);
   if (settings.method() == v1::FABRIC_METHOD_FACTORED) {
     at.Range("factored.rank", settings.factored().rank(), 1, kMaxFactoredRank);
-  }
-  // Both keep every sample per level while they build (factored factors the table).
-  const bool tables = settings.method() == v1::FABRIC_METHOD_TABULATED || settings.method() == v1::FABRIC_METHOD_FACTORED;
-  if (tables && resolution <= kMaxSpatialResolution &&
-      settings.view_directions() <= kMaxDirections && settings.light_directions() <= kMaxDirections) {
-    const uint64_t samples =
-        uint64_t{resolution} * resolution * settings.view_directions() * settings.light_directions();
-    if (samples > kMaxTabulatedSamples) {
-      at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
-                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of tabulated and factored"));
-    }
   }
 }
 

@@ -16,7 +16,7 @@ namespace {
 using Matrix = Eigen::MatrixXd;
 
 // One texel's channel: the top `rank` singular triplets of its V×L table M, from the
-// eigenvectors of M·Mᵀ (V×V: the smaller side for the grids Loom acquires with), so
+// eigenvectors of M·Mᵀ (V×V), so
 // A_k = √σ_k u_k and B_k = Mᵀ u_k / √σ_k = √σ_k v_k. Returns the squared residual
 // ‖M‖² − Σ σ_k².
 double FactorChannel(const Matrix& table, uint32_t rank, Matrix& view_terms, Matrix& light_terms) {

@@ -30,19 +30,24 @@ constexpr uint32_t kTabulatedFormatVersion = 1;
 
 uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
 
-// Level `level`'s table atlas (tabulated_method.h), RGB floats, row-major.
+// The pixel of (texel, view, light) in a level's table atlas (tabulated_method.h):
+// lights on a k_l×k_l block inside the view's cell of the texel's k×k block of views.
+size_t TablePixel(size_t texel, uint32_t resolution, size_t view, size_t light, uint32_t k, uint32_t kl) {
+  const size_t x = texel % resolution, y = texel / resolution, side = size_t{resolution} * k * kl;
+  return ((y * k + view / k) * kl + light / kl) * side + (x * k + view % k) * kl + light % kl;
+}
+
+// Level `level`'s table atlas, RGB floats, row-major.
 std::vector<float> TableAtlas(const TabulatedFabric& fabric, const TabulatedLevel& level) {
   const size_t views = fabric.view_count(), lights = fabric.light_count();
   const uint32_t k = Side(views), kl = Side(lights);
   const size_t side = size_t{level.resolution} * k * kl;
   std::vector<float> pixels(side * side * 3);
   for (size_t texel = 0; texel < level.texel_count(); ++texel) {
-    const size_t x = texel % level.resolution, y = texel / level.resolution;
     for (size_t view = 0; view < views; ++view) {
       for (size_t light = 0; light < lights; ++light) {
-        const size_t px = (x * k + view % k) * kl + light % kl, py = (y * k + view / k) * kl + light / kl;
         const glm::vec3 value = level.radiance[(texel * views + view) * lights + light];
-        std::copy_n(&value[0], 3, &pixels[(py * side + px) * 3]);
+        std::copy_n(&value[0], 3, &pixels[TablePixel(texel, level.resolution, view, light, k, kl) * 3]);
       }
     }
   }
@@ -140,13 +145,10 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
       }
       ReadAmbientAlphaAtlas(atlases[j], level.resolution, views, level.ambient, level.alpha, invalid);
       level.radiance.resize(level.texel_count() * views * lights);
-      const size_t side = size_t(table_sides[j]);
       for (size_t texel = 0; texel < level.texel_count(); ++texel) {
-        const size_t x = texel % level.resolution, y = texel / level.resolution;
         for (size_t view = 0; view < views; ++view) {
           for (size_t light = 0; light < lights; ++light) {
-            const size_t px = (x * k + view % k) * kl + light % kl, py = (y * k + view / k) * kl + light / kl;
-            const float* value = &tables[j][(py * side + px) * 3];
+            const float* value = &tables[j][TablePixel(texel, level.resolution, view, light, k, kl) * 3];
             level.radiance[(texel * views + view) * lights + light] = glm::vec3(value[0], value[1], value[2]);
           }
         }
