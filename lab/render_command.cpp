@@ -40,14 +40,15 @@ Image RenderGpu(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes
   const Stopwatch stopwatch;
   std::map<std::string, CachedFabric> built;
   FabricAssets fits;
+  std::vector<std::string> names;  // the fabrics' methods, in order of first use
   for (const SceneFabric& fabric : SceneFabrics(scene)) {
-    fits[fabric.key] = built.emplace(fabric.key, LoadOrPrecompute(fabric, cache)).first->second.asset.get();
+    const FabricAsset* asset = built.emplace(fabric.key, LoadOrPrecompute(fabric, cache)).first->second.asset.get();
+    fits[fabric.key] = asset;
+    const std::string name(asset->method().name());
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   }
-  std::string methods;  // the fabrics' methods, in order of first use
-  for (const SceneFabric& fabric : SceneFabrics(scene)) {
-    const std::string name(fits.at(fabric.key)->method().name());
-    if (methods.find(name) == std::string::npos) methods += (methods.empty() ? "" : "+") + name;
-  }
+  std::string methods;
+  for (const std::string& name : names) methods += (methods.empty() ? "" : "+") + name;
   figures["method"] = methods.empty() ? "svbrdf" : methods;
   figures["fabrics"] = fits.size();
   figures["precompute_seconds"] = stopwatch.Seconds();  // loading, where the cache had them

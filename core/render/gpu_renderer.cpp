@@ -97,7 +97,6 @@ int MsaaSamples(const v1::RenderSettings& settings) {
   return limit;
 }
 
-
 gl::ShaderProgram OpaqueProgram() {
   gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag");
   program.Set("u_shadow_maps", kShadowUnit);
