@@ -1,20 +1,10 @@
 #pragma once
 // The factored method's data: per level, texel and colour channel, the tabulated
-// radiance L(v, l) (tabulated_fabric.h: the pooled samples, holes filled from the
-// parent) approximated by K separable terms,
-//   L(v, l) ≈ Σ_k A_k(v) · B_k(l),
-// a view table A_k and a light table B_k per term: the truncated singular value
-// decomposition of the texel's V×L matrix, the best rank-K approximation in the
-// least-squares sense (Eckart–Young), each term's singular value split evenly
-// between its two tables. A light that moves across a yarn moves its shadow through
-// the light tables; a view through the view tables.
-//
-// The renderer interpolates A_k bilinearly between stored views and B_k between
-// stored lights. Bilinear interpolation is linear in each table, so the sum of the
-// interpolated products is the bilinear interpolation of the rank-K table: the
-// method renders what tabulated would render of its rank-K approximation. The sum is
-// clamped at 0 (a truncated SVD may dip below it). Ambient: Σ_k A_k(v)·b̄_k with
-// b̄_k = 2π/L Σ_l B_k(l), stored per view in the view atlas beside alpha.
+// radiance (tabulated_fabric.h) approximated by K separable terms,
+// L(v, l) ≈ Σ_k A_k(v) · B_k(l): the truncated SVD of the texel's V×L table, each
+// singular value split evenly between its view table A_k and light table B_k.
+// EvaluateFactored is the renderer's lookup in C++: A_k and B_k bilinear between
+// stored directions, the sum clamped at 0. Derivation: docs/methods.md "factored".
 
 #include <cstdint>
 #include <functional>

@@ -1,22 +1,11 @@
 #pragma once
 // The tabulated method's data: a fabric's acquired radiance samples themselves, per
-// mip level, texel, view and light — no fit. What it renders is what any fitted
-// method at the same acquisition settings could at best render (the ceiling).
-//
-// Level 0 is the samples. Texel (x, y) of level k + 1 pools the samples of the
-// level-0 texels it covers, per (view, light), weighted by their coverage alpha
-// (as the svbrdf fit pools them, core/fit/fabric_fit.h); its alpha per view is their
-// mean. Where a (texel, view) has alpha 0 its radiance is its parent's for that view
-// (0 at the top level), so that filtering across a hole sees sensible values.
-//
-// The ambient response per (texel, view) is the radiance under a uniform
-// environment of unit radiance: ∫ L(v, l) dω_l ≈ 2π/L · Σ_l L(v, l), every light
-// direction covering the same solid angle (core/acquire/hemisphere_directions.h).
-//
-// EvaluateTabulated is the renderer's lookup in C++ (core/shaders/tabulated.glsl):
-// bilinear between the four stored views around the view and the four stored lights
-// around the light, each clamped to its grid; past the outermost ring of lights the
-// radiance fades linearly to 0 at the horizon, and is 0 below it.
+// mip level, texel, view and light — no fit (the ceiling of fitted methods). A texel
+// of level k + 1 pools the level-0 texels it covers per (view, light), weighted by
+// coverage; a (texel, view) with alpha 0 takes its parent's radiance. Per (texel,
+// view) it also holds the ambient response, 2π/L · Σ_l L(v, l). EvaluateTabulated is
+// the renderer's lookup in C++ (core/shaders/tabulated.glsl). Derivation:
+// docs/methods.md "tabulated".
 
 #include <cstdint>
 #include <glm/glm.hpp>
