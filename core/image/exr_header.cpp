@@ -1,5 +1,7 @@
 #include "core/image/exr_header.h"
 
+#include <algorithm>
+
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -16,6 +18,9 @@ constexpr uint32_t kMultipartFlag = 0x1000;
 constexpr int kMaxAttributes = 1024;
 constexpr uint32_t kMinTileSide = 16;
 constexpr uint32_t kMaxTileSide = 65536;
+// OpenImageIO reads a tiled file a whole tile at a time: a tile may be no larger than
+// the image, or than this for a small image (Loom writes 32-pixel tiles at any size).
+constexpr uint32_t kSmallImageTileSide = 64;
 
 // Reads little-endian fields, each checked against the bytes left.
 class Reader {
@@ -99,6 +104,7 @@ void CheckExrHeader(std::string_view bytes, int width, int height, const std::st
   }
   const size_t max_name = (version & kLongNamesFlag) ? 255 : 31;
   bool data_window = false, tiles = false;
+  uint32_t tile_width = 0, tile_height = 0;
   for (int count = 0;; ++count) {
     if (count == kMaxAttributes) throw in.Invalid("more than " + std::to_string(kMaxAttributes) + " attributes");
     const std::string_view name = in.Name(max_name);
@@ -126,7 +132,8 @@ void CheckExrHeader(std::string_view bytes, int width, int height, const std::st
       data_window = true;
     } else if (name == "tiles") {
       if (type != "tiledesc" || value.size() != 9) throw in.Invalid(field + " is not a 9-byte tiledesc");
-      const uint32_t tile_width = At<uint32_t>(value, 0), tile_height = At<uint32_t>(value, 4);
+      tile_width = At<uint32_t>(value, 0);
+      tile_height = At<uint32_t>(value, 4);
       if (tile_width < kMinTileSide || tile_width > kMaxTileSide || tile_height < kMinTileSide ||
           tile_height > kMaxTileSide) {
         throw in.Invalid("tiles of " + std::to_string(tile_width) + "×" + std::to_string(tile_height) +
@@ -155,6 +162,12 @@ void CheckExrHeader(std::string_view bytes, int width, int height, const std::st
   }
   if (!data_window) throw in.Invalid("no dataWindow");
   if (tiles != ((version & kTiledFlag) != 0)) throw in.Invalid("the tiles attribute disagrees with the version flags");
+  const auto larger = [](uint32_t tile, int side) { return tile > std::max<uint32_t>(side, kSmallImageTileSide); };
+  if (tiles && (larger(tile_width, width) || larger(tile_height, height))) {
+    throw in.Invalid("tiles of " + std::to_string(tile_width) + "×" + std::to_string(tile_height) +
+                     " pixels are larger than the " + std::to_string(width) + "×" + std::to_string(height) +
+                     " image (and than " + std::to_string(kSmallImageTileSide) + ")");
+  }
 }
 
 }  // namespace loom

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/image/image.h"
+#include "core/methods/asset_files.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 
@@ -42,8 +43,30 @@ size_t SizeFieldOf(const std::string& bytes, const std::string& name) {
 
 void SetInt(std::string& bytes, size_t at, int32_t value) { std::memcpy(&bytes[at], &value, sizeof value); }
 
+// A tiled MIP-mapped file as a fabric asset writes it: 8×8 pixels, 32-pixel tiles.
+std::string SmallTiledExr() {
+  const auto path = std::filesystem::temp_directory_path() / "loom_exr_header_tiled_test.exr";
+  LevelImage image{{"R", "G", "B"}, {8, 4}, {std::vector<float>(8 * 8 * 3, 0.5f), std::vector<float>(4 * 4 * 3, 0.5f)}};
+  WriteLevelImage(image, path, /*half=*/true);
+  std::string bytes = ReadFile(path);
+  std::filesystem::remove(path);
+  return bytes;
+}
+
 TEST(ExrHeader, AFileOpenImageIoWroteIsAccepted) {
   EXPECT_EQ(ErrorOf(SmallExr()), "");
+}
+
+// What fuzz/asset_fuzzer found next: a tile far larger than the image, which
+// OpenImageIO allocates whole (805 MB for a 16384×4096 RGB float tile).
+TEST(ExrHeader, TilesLargerThanTheImageAreRefused) {
+  std::string bytes = SmallTiledExr();
+  EXPECT_EQ(ErrorOf(bytes, 8, 8), "");  // 32-pixel tiles over 8 pixels: within the small-image allowance
+  const size_t value = SizeFieldOf(bytes, "tiles") + 4;
+  SetInt(bytes, value, 16384);
+  SetInt(bytes, value + 4, 4096);
+  EXPECT_NE(ErrorOf(bytes, 8, 8).find("tiles of 16384×4096 pixels are larger than the 8×8 image"), std::string::npos)
+      << ErrorOf(bytes, 8, 8);
 }
 
 TEST(ExrHeader, ADataWindowOtherThanTheExpectedOneIsRefused) {
