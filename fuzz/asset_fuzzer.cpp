@@ -1,13 +1,13 @@
 // The fabric asset readers (core/methods/fabric_method.h ReadAnyFabricAsset), as a
-// worker reads an asset from the cache: manifest.json and the images of the method
-// the manifest names (svbrdf: parameters.exr, lut.exr; tabulated: table.exr,
-// views.exr; factored: view_terms.exr, light_terms.exr, views.exr; a manifest naming
-// no known method gets svbrdf's). The input is the files in a container: u16 manifest
-// length, the manifest, then each image but the last as u32 length and bytes, the
-// last image the rest. The manifest records each image's size and SHA-256, which a
-// mutated image would fail at once; so for most inputs (first byte even) the harness
-// writes the images' true size and hash into the manifest, when it is a JSON object,
-// and the EXR decoding behind the check is reached.
+// worker reads an asset from the cache: manifest.json and the images of the method the
+// manifest names (svbrdf: parameters.exr, lut.exr; tabulated: table.exr, views.exr;
+// factored: view_terms.exr, light_terms.exr, views.exr; neural: latents.exr, views.exr;
+// a manifest naming no known method gets svbrdf's). The input is the files in a
+// container: u16 manifest length, the manifest, then each image but the last as u32
+// length and bytes, the last image the rest. The manifest records each image's size and
+// SHA-256, which a mutated image would fail at once; so for most inputs (first byte
+// even) the harness writes the images' true size and hash into the manifest, when it is
+// a JSON object, and the EXR decoding behind the check is reached.
 
 #include <unistd.h>
 
@@ -68,6 +68,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<const char*> names = {"parameters.exr", "lut.exr"};
   if (method == "tabulated") names = {"table.exr", "views.exr"};
   if (method == "factored") names = {"view_terms.exr", "light_terms.exr", "views.exr"};
+  if (method == "neural") names = {"latents.exr", "views.exr"};
   std::vector<std::string_view> images;
   for (size_t i = 0; i + 1 < names.size(); ++i) images.push_back(Take(rest, Length<uint32_t>(rest)));
   images.push_back(rest);

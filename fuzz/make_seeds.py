@@ -85,7 +85,8 @@ def lab_seeds():
         # One asset of each method, its files in the order asset_fuzzer.cpp unpacks them.
         settings = json.loads((work / "settings.json").read_text())
         for method, files in ASSET_FILES.items():
-            (work / f"{method}.json").write_text(json.dumps({**settings, "method": f"FABRIC_METHOD_{method.upper()}"}))
+            own = {"method": f"FABRIC_METHOD_{method.upper()}", **METHOD_SETTINGS.get(method, {})}
+            (work / f"{method}.json").write_text(json.dumps({**settings, **own}))
             subprocess.run([LAB, "precompute", work / "fabric.json", "--settings", work / f"{method}.json",
                             "-o", work / method], check=True, capture_output=True)
             manifest = (work / method / "manifest.json").read_bytes()
@@ -102,7 +103,10 @@ ASSET_FILES = {
     "svbrdf": ["parameters.exr", "lut.exr"],
     "tabulated": ["table.exr", "views.exr"],
     "factored": ["view_terms.exr", "light_terms.exr", "views.exr"],
+    "neural": ["latents.exr", "views.exr"],
 }
+# The smallest decoder keeps the neural manifest (its parameters) short.
+METHOD_SETTINGS = {"neural": {"neural": {"channels": 4, "hidden": 4, "steps": 10}}}
 
 
 def varint(n):

@@ -6,9 +6,10 @@
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
-#include "core/methods/svbrdf/svbrdf_method.h"
+#include "core/methods/fabric_method.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/scene/obj_writer.h"
+#include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/spec/spec_json.h"
 #include "core/util/progress_bar.h"
@@ -153,30 +154,30 @@ LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags) {
 LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
     std::string samples, settings;
-    unsigned threads = 0;
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
-      "fit", "Fit a samples file written by acquire and print the fit figures (times the fit alone; writes no asset)");
+      "fit", "Build the settings' method's asset from a samples file written by acquire (the fit, the "
+             "factorisation, the training) and print its figures; times the build alone, writes no asset");
   command->add_option("samples", options->samples, "Samples file (from loom-lab acquire)")->required();
   command->add_option("--settings", options->settings, "Precompute settings file (JSON); defaults if absent");
-  command->add_option("--threads", options->threads, "Worker threads (0 = every core)");
   return {command, [&flags, options] {
-            const v1::PrecomputeSettings settings = LoadSettingsFile(options->settings);
+            const v1::PrecomputeSettings settings = WithDefaults(LoadSettingsFile(options->settings));
             const RadianceSamples samples = ReadRadianceSamples(options->samples);
-            FittedFabric fitted;
+            const FabricMethod& method = MethodOf(settings.method());
+            std::unique_ptr<FabricAsset> asset;
             {
-              ProgressBar bar("fit");
-              fitted = FitFabric(
-                  samples, settings, [&bar](double f, std::string_view stage) { bar.Update(f, stage); },
-                  options->threads);
+              ProgressBar bar(std::string(method.name()));
+              // The sampling height places texels in frames; no figure depends on it.
+              asset = method.Build(samples, 0.0f, settings,
+                                   [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
             }
-            const nlohmann::json figures = SvbrdfFitFigures(fitted);
+            const nlohmann::json figures = asset->Figures();
             if (flags.json) {
               PrintJson(figures);
             } else {
-              std::printf("fitted %s in %.2f s (%zu levels)\n", options->samples.c_str(), fitted.seconds,
-                          fitted.levels.size());
+              std::printf("built %s from %s in %.2f s (%zu levels)\n", std::string(method.name()).c_str(),
+                          options->samples.c_str(), asset->build_seconds(), figures.at("levels").size());
               PrintLevels(figures);
             }
             return 0;

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/methods/factored/factored_method.h"
+#include "core/methods/neural/neural_method.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/methods/tabulated/tabulated_method.h"
 #include "core/util/error.h"
@@ -14,7 +15,9 @@ namespace loom {
 namespace {
 
 // Every method, the default first.
-std::array<const FabricMethod*, 3> Methods() { return {&SvbrdfMethod(), &TabulatedMethod(), &FactoredMethod()}; }
+std::array<const FabricMethod*, 4> Methods() {
+  return {&SvbrdfMethod(), &TabulatedMethod(), &FactoredMethod(), &NeuralMethod()};
+}
 
 }  // namespace
 

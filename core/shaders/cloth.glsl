@@ -59,10 +59,16 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
     vec2 at = tile + f.axis * ((float(i) + 0.5) / float(f.samples) - 0.5);
     result += ShadeFabricLevels(at, f, fragment);
   }
-  return result / float(f.samples);
+  result /= float(f.samples);
 #else
-  return ShadeFabricLevels(tile, f, fragment);
+  vec4 result = ShadeFabricLevels(tile, f, fragment);
 #endif
+#ifdef LOOM_FABRIC_DECODER
+  // A method that decodes its direct light once per fragment (neural.glsl) from
+  // values the texture filter blends; its texels give the rest.
+  result.rgb += DecodeFabric(tile, f, fragment);
+#endif
+  return result;
 }
 
 in vec3 v_position;

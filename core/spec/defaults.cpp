@@ -15,6 +15,10 @@ constexpr uint32_t kDefaultMaxLmIterations = 50;
 constexpr uint32_t kDefaultIndirectBounces = 1;
 constexpr uint32_t kDefaultSupersampling = 2;  // 2×2 rays per texel
 constexpr uint32_t kDefaultFactoredRank = 4;
+constexpr uint32_t kDefaultNeuralChannels = 8;
+constexpr uint32_t kDefaultNeuralHidden = 32;
+constexpr uint32_t kDefaultNeuralSteps = 100000;
+constexpr uint32_t kDefaultNeuralFrequencies = 2;
 constexpr uint32_t kDefaultTableViewDirections = 81;  // 9×9, for tabulated and factored
 
 // FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
@@ -149,7 +153,8 @@ uint32_t SmallestSatinMove(uint32_t n) {
 }
 
 bool IsTableMethod(v1::FabricMethod method) {
-  return method == v1::FABRIC_METHOD_TABULATED || method == v1::FABRIC_METHOD_FACTORED;
+  return method == v1::FABRIC_METHOD_TABULATED || method == v1::FABRIC_METHOD_FACTORED ||
+         method == v1::FABRIC_METHOD_NEURAL;
 }
 
 v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
@@ -170,10 +175,17 @@ v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (settings.supersampling() == 0) settings.set_supersampling(kDefaultSupersampling);
   if (!settings.has_half_float()) settings.set_half_float(true);
   if (settings.method() == v1::FABRIC_METHOD_UNSPECIFIED) settings.set_method(v1::FABRIC_METHOD_SVBRDF);
-  // Only the factored method's settings get its defaults: the others' keys and
-  // manifests stay as they were before it.
+  // Only a method's own settings get its defaults: the others' keys and manifests
+  // stay as they were before it.
   if (settings.method() == v1::FABRIC_METHOD_FACTORED && settings.factored().rank() == 0) {
     settings.mutable_factored()->set_rank(kDefaultFactoredRank);
+  }
+  if (settings.method() == v1::FABRIC_METHOD_NEURAL) {
+    v1::NeuralSettings& neural = *settings.mutable_neural();
+    if (neural.channels() == 0) neural.set_channels(kDefaultNeuralChannels);
+    if (neural.hidden() == 0) neural.set_hidden(kDefaultNeuralHidden);
+    if (neural.steps() == 0) neural.set_steps(kDefaultNeuralSteps);
+    if (!neural.has_frequencies()) neural.set_frequencies(kDefaultNeuralFrequencies);
   }
   return settings;
 }

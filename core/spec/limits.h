@@ -49,6 +49,17 @@ inline constexpr uint64_t kMaxTabulatedSamples = uint64_t{1} << 24;
 // The factored method's terms per texel: each costs a texture fetch per light and
 // fragment, and as much memory as the rank-1 asset.
 inline constexpr uint32_t kMaxFactoredRank = 8;
+// The neural method's latent numbers per texel (each four a texture fetch per
+// fragment and level) and its decoder's hidden width (its weights live in one
+// uniform block, which GL guarantees only 16 KiB: 64 wide with 16 channels is
+// ~22 KiB, within what Mesa and NVIDIA give, 64 KiB; the upload checks).
+inline constexpr uint32_t kMaxNeuralChannels = 16;
+inline constexpr uint32_t kMaxNeuralHidden = 64;
+// Frequencies of the decoder's direction encoding: each adds 8 inputs and 8 sines
+// and cosines per light and fragment.
+inline constexpr uint32_t kMaxNeuralFrequencies = 4;
+// Training steps bound the precompute's time: a step is 1024 samples.
+inline constexpr uint32_t kMaxNeuralSteps = 1000000;
 
 // --- FabricSpec ----------------------------------------------------------------
 

@@ -148,6 +148,10 @@ class IssueCollector {
   void PowerOfTwo(std::string_view field, uint32_t value, std::string_view why = {}) const {
     if (!IsPowerOfTwo(value)) Report(field, Cat(value, " is not a power of two") + Note(why));
   }
+  // A count the GPU packs by fours (vec4s).
+  void Multiple(std::string_view field, uint32_t value, uint32_t of) const {
+    if (value % of != 0) Report(field, Cat(value, " is not a multiple of ", of));
+  }
   void PerfectSquare(std::string_view field, uint32_t value, std::string_view why) const {
     if (!IsPerfectSquare(value)) Report(field, Cat(value, " is not a perfect square") + Note(why));
   }
@@ -236,7 +240,7 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
     // The table methods keep every sample per level while they build.
     if (IsTableMethod(settings.method()) && samples > kMaxTabulatedSamples) {
       at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
-                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of tabulated and factored"));
+                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of the table methods (tabulated, factored, neural)"));
     }
   }
   at.Range("lobes", settings.lobes(), kMinLobes, kMaxLobes);
@@ -248,6 +252,14 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
   at.Range("supersampling", settings.supersampling(), 1, kMaxSupersampling);
   if (settings.method() == v1::FABRIC_METHOD_FACTORED) {
     at.Range("factored.rank", settings.factored().rank(), 1, kMaxFactoredRank);
+  }
+  if (settings.method() == v1::FABRIC_METHOD_NEURAL) {
+    at.Range("neural.channels", settings.neural().channels(), 4, kMaxNeuralChannels);
+    at.Multiple("neural.channels", settings.neural().channels(), 4);
+    at.Range("neural.hidden", settings.neural().hidden(), 4, kMaxNeuralHidden);
+    at.Multiple("neural.hidden", settings.neural().hidden(), 4);
+    at.Range("neural.steps", settings.neural().steps(), 1, kMaxNeuralSteps);
+    at.Max("neural.frequencies", settings.neural().frequencies(), kMaxNeuralFrequencies);
   }
 }
 

@@ -254,11 +254,13 @@ TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameSceneWithEveryMetho
   const auto context = gl::EglContext::Create();
   GpuRenderer renderer(*context);
   for (const v1::FabricMethod method :
-       {v1::FABRIC_METHOD_SVBRDF, v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED}) {
+       {v1::FABRIC_METHOD_SVBRDF, v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED,
+        v1::FABRIC_METHOD_NEURAL}) {
     SCOPED_TRACE(v1::FabricMethod_Name(method));
     v1::SceneSpec scene = TinyScene();
     v1::PrecomputeSettings settings = TinySettings();
     settings.set_method(method);
+    settings.mutable_neural()->set_steps(50);  // a tiny asset; the other methods ignore it
     for (v1::SceneObject& object : *scene.mutable_objects()) {
       if (object.has_fabric()) *object.mutable_fabric()->mutable_precompute() = settings;
     }

@@ -193,6 +193,7 @@ class Factored final : public FabricMethod {
   uint32_t asset_format_version() const override { return kFactoredFormatVersion; }
 
   v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
+    settings.clear_neural();
     return WithoutSvbrdfFit(std::move(settings));
   }
 

@@ -19,6 +19,7 @@ class Svbrdf final : public FabricMethod {
   v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
     settings.clear_method();
     settings.clear_factored();
+    settings.clear_neural();
     return settings;
   }
 

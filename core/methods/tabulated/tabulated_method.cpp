@@ -169,6 +169,7 @@ class Tabulated final : public FabricMethod {
 
   v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const override {
     settings.clear_factored();
+    settings.clear_neural();
     return WithoutSvbrdfFit(std::move(settings));
   }
 

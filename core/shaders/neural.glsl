@@ -1,0 +1,112 @@
+// The neural method (core/methods/neural/neural_fabric.h): per texel and level a
+// latent vector z, decoded with the view and each light by a shared two-layer ReLU
+// network f(z, e(v, l)) → RGB radiance per unit irradiance (e: the directions'
+// encoding, neural_fabric.h DirectionEncoding). The latents are
+// sampled by the texture filter (bilinear across the tile's periodic edges with
+// bilinear texels, else the texel's own), blended between the footprint's two
+// levels, and decoded once per fragment (LOOM_FABRIC_DECODER: cloth.glsl adds
+// DecodeFabric to the blend of the texels' ambient response and coverage, which the
+// view atlas holds as in the other table methods). Directions in the tile frame.
+
+#define LOOM_FABRIC_LIGHT_GRID
+#define LOOM_FABRIC_DECODER
+#include "fabric_surface.glsl"
+
+// The asset's sizes, compiled in (NeuralTextures::ShaderDefines); the file compiled
+// on its own (as a test does) takes the largest (core/spec/limits.h).
+#ifndef LOOM_NEURAL_CHANNELS
+#define LOOM_NEURAL_CHANNELS 16
+#define LOOM_NEURAL_HIDDEN 64
+#define LOOM_NEURAL_FREQUENCIES 4
+#endif
+const int kLatents = LOOM_NEURAL_CHANNELS / 4;           // vec4s of a latent
+const int kHidden = LOOM_NEURAL_HIDDEN / 4;              // vec4s of a hidden layer
+const int kGroups = 1 + 2 * LOOM_NEURAL_FREQUENCIES;     // vec4s of the encoding: (v.xy, l.xy) each
+const int kRow1 = kLatents + kGroups;                    // vec4s of a first-layer row: z, then e
+// NeuralDecoder::parameters in vec4s: W1 row-major, b1, W2 row-major, b2, W3, b3.
+const int kB1 = LOOM_NEURAL_HIDDEN * kRow1;
+const int kW2 = kB1 + kHidden;
+const int kB2 = kW2 + LOOM_NEURAL_HIDDEN * kHidden;
+const int kW3 = kB2 + kHidden;
+const int kB3 = kW3 + 3 * kHidden;
+
+layout(std140) uniform NeuralDecoder {
+  vec4 u_decoder[kB3 + 1];
+};
+uniform sampler2DArray u_fabric_latents;  // layer i: z[4i..4i+3]; mip ℓ: level ℓ's res_ℓ² texels; repeat
+
+// The view atlas's part of a texel: the ambient response and coverage.
+vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
+  vec4 views = FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
+  return vec4(fragment.ambient * views.rgb, views.a);
+}
+
+vec4 FabricLatent(vec2 tile, int level, int layer) {
+#ifdef LOOM_BILINEAR_TEXELS
+  vec2 at = tile;
+#else
+  vec2 at = (vec2(FabricTexelAt(tile, level)) + 0.5) / float(FabricResolution(level));
+#endif
+  return textureLod(u_fabric_latents, vec3(at, float(layer)), float(level));
+}
+
+// Group g of a direction's encoding: the direction, then for k < F its sines and
+// cosines of 2^k·π times it.
+vec2 EncodeDirection(vec2 d, int g) {
+  if (g == 0) return d;
+  vec2 phase = kPi * float(1 << ((g - 1) / 2)) * d;
+  return (g % 2 == 1) ? sin(phase) : cos(phase);
+}
+
+// A weight row of kHidden vec4s starting at u_decoder[row], times x.
+float DecoderRow(int row, vec4 x[kHidden]) {
+  float sum = 0.0;
+  for (int i = 0; i < kHidden; ++i) sum += dot(u_decoder[row + i], x[i]);
+  return sum;
+}
+
+// The fragment's direct radiance: f decoded for each light, clamped at 0, times the
+// light's irradiance and grid weight. The first layer's latent and view part is the
+// same for every light and computed once.
+vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment) {
+  vec4 z[kLatents];
+  for (int i = 0; i < kLatents; ++i) {
+    z[i] = FabricLatent(tile, f.level0, i);
+    if (f.blend > 0.0) z[i] = mix(z[i], FabricLatent(tile, f.level1, i), f.blend);
+  }
+  vec2 view[kGroups];
+  for (int g = 0; g < kGroups; ++g) view[g] = EncodeDirection(fragment.view.xy, g);
+  float base[LOOM_NEURAL_HIDDEN];
+  for (int j = 0; j < LOOM_NEURAL_HIDDEN; ++j) {
+    int row = j * kRow1;
+    float sum = u_decoder[kB1 + j / 4][j % 4];
+    for (int i = 0; i < kLatents; ++i) sum += dot(u_decoder[row + i], z[i]);
+    for (int g = 0; g < kGroups; ++g) sum += dot(u_decoder[row + kLatents + g].xy, view[g]);
+    base[j] = sum;
+  }
+  vec3 radiance = vec3(0.0);
+  for (int l = 0; l < u_light_count; ++l) {
+    vec2 light[kGroups];
+    for (int g = 0; g < kGroups; ++g) light[g] = EncodeDirection(fragment.light_direction[l].xy, g);
+    vec4 h1[kHidden], h2[kHidden];
+    for (int q = 0; q < kHidden; ++q) {
+      vec4 pre;
+      for (int r = 0; r < 4; ++r) {
+        int row = (4 * q + r) * kRow1 + kLatents;
+        float sum = base[4 * q + r];
+        for (int g = 0; g < kGroups; ++g) sum += dot(u_decoder[row + g].zw, light[g]);
+        pre[r] = sum;
+      }
+      h1[q] = max(pre, 0.0);
+    }
+    for (int q = 0; q < kHidden; ++q) {
+      vec4 pre;
+      for (int r = 0; r < 4; ++r) pre[r] = DecoderRow(kW2 + (4 * q + r) * kHidden, h1);
+      h2[q] = max(pre + u_decoder[kB2 + q], 0.0);
+    }
+    vec3 y = vec3(DecoderRow(kW3, h2), DecoderRow(kW3 + kHidden, h2), DecoderRow(kW3 + 2 * kHidden, h2));
+    y += u_decoder[kB3].xyz;
+    radiance += fragment.light_irradiance[l] * fragment.light_weight[l] * max(y, vec3(0.0));
+  }
+  return radiance;
+}
