@@ -38,7 +38,7 @@ namespace loom::lab {
 namespace {
 
 const std::vector<std::string> kColumns = {
-    "configuration", "scene", "method", "fabric", "view", "distance", "tile_pixels",
+    "configuration", "scene", "method", "method_settings", "fabric", "view", "distance", "tile_pixels",
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
     "supersampling", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "reference_samples",
@@ -255,7 +255,8 @@ class Sweep {
     const RenderColumns render_columns = SweepRenderColumns(render);
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
     const std::string method = svbrdf ? std::string(MethodOf(precompute.method()).name()) : "reference";
-    results_.Append({configuration.name, scene.name, method, scene.fabric, scene.view,
+    const std::string own = svbrdf ? MethodOf(precompute.method()).OwnSettings(precompute) : std::string();
+    results_.Append({configuration.name, scene.name, method, own, scene.fabric, scene.view,
                      scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
                      FabricKindName(ClassifyFabric(configured.objects(0).fabric().fabric())),
                      when_svbrdf(std::to_string(precompute.spatial_resolution())),

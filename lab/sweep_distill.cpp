@@ -8,6 +8,7 @@
 #include <set>
 #include <utility>
 
+#include "core/methods/fabric_method.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
 #include "lab/sweep_results.h"
@@ -19,15 +20,15 @@ struct Measured {
   double footprint = NAN;
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
-  std::string resolution, directions, lights, lobes, lookup_table, supersampling, level_mode, texel_filter, msaa,
-      lod_bias, seed;
+  std::string method, method_settings, resolution, directions, lights, lobes, lookup_table, supersampling,
+      level_mode, texel_filter, msaa, lod_bias, seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
 
 // What a row was fitted and rendered with, as far as the CSV says, its seed left out.
 std::string Settings(const Measured& m) {
-  return m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
+  return m.method + ',' + m.method_settings + ',' + m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
          m.supersampling + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias;
 }
 
@@ -62,6 +63,22 @@ void AverageRepeats(std::map<std::string, std::map<std::string, Measured>>& rows
   }
 }
 
+// A configuration of another method than the baseline's, at that method's defaults
+// with the baseline's resolution, lights and supersampling: the method (else
+// unspecified). Its views are the method's default (the table methods' 9×9).
+v1::FabricMethod MethodVariation(const Measured& m, const Measured& b) {
+  const FabricMethod* method = MethodNamed(m.method);
+  if (method == nullptr || m.method == b.method) return v1::FABRIC_METHOD_UNSPECIFIED;
+  v1::PrecomputeSettings own;
+  own.set_method(method->id());
+  own = WithDefaults(own);
+  const bool defaults = m.resolution == b.resolution && m.lights == b.lights &&
+                        m.supersampling == b.supersampling &&
+                        m.directions == std::to_string(own.view_directions()) &&
+                        m.method_settings == method->OwnSettings(own);
+  return defaults ? method->id() : v1::FABRIC_METHOD_UNSPECIFIED;
+}
+
 FabricKind ToKind(const std::string& field, const std::string& scene) {
   const std::optional<FabricKind> kind = ParseFabricKind(field);
   if (!kind) {
@@ -75,6 +92,11 @@ FabricKind ToKind(const std::string& field, const std::string& scene) {
 
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
   const auto column = [&](const char* name) { return table.Column(name); };
+  // Sweeps before fabric methods had no method_settings column: no method had any.
+  const auto own = std::find(table.columns.begin(), table.columns.end(), "method_settings");
+  const auto own_settings = [&](const std::vector<std::string>& row) {
+    return own == table.columns.end() ? std::string() : row[size_t(own - table.columns.begin())];
+  };
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
                footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_cpu_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
@@ -86,18 +108,19 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, Measured>> rows;
   for (const auto& row : table.rows) {
-    if (row[method] != "svbrdf") continue;
+    if (MethodNamed(row[method]) == nullptr) continue;  // the reference
     if (!rows.contains(row[configuration])) order.push_back(row[configuration]);
     rows[row[configuration]][row[scene]] = {ToNumber(row[footprint]), ToKind(row[kind], row[scene]),
                                             ToNumber(row[psnr]), ToNumber(row[precompute]),
-                                            ToNumber(row[bytes]), row[resolution], row[views],
+                                            ToNumber(row[bytes]), row[method], own_settings(row),
+                                            row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
                                             row[supersampling], row[level],         row[filter],
                                             row[msaa],          row[lod_bias],      row[seed]};
   }
   AverageRepeats(rows);
   if (!rows.contains(baseline)) {
-    throw Error(ErrorCode::kInvalidArgument, "sweep CSV has no svbrdf rows of the baseline configuration '" +
+    throw Error(ErrorCode::kInvalidArgument, "sweep CSV has no GPU rows of the baseline configuration '" +
                                                  baseline + "'");
   }
   const auto& base = rows.at(baseline);
@@ -151,19 +174,25 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       }
       MeasuredVariation v;
       int axes = 0;
-      if (m.resolution != b.resolution) v.spatial_resolution = std::stoul(m.resolution), ++axes;
-      if (m.directions != b.directions || m.lights != b.lights) {
-        if (m.directions != m.lights) axes += 2;  // unequal views and lights: not one the planner sets
-        v.directions = std::stoul(m.directions), ++axes;
-      }
-      if (m.lobes != b.lobes) v.lobes = std::stoul(m.lobes), ++axes;
-      if (m.lookup_table != b.lookup_table) v.lookup_table = m.lookup_table == "1" ? 1 : 0, ++axes;
-      if (m.supersampling != b.supersampling) {
-        v.supersampling = std::stoul(m.supersampling);
-        if (v.spatial_resolution == 0) axes += 2;  // alone it is not a setting the planner varies
+      if (m.method != b.method) {
+        // Another method at its own defaults, or a combination the planner never makes.
+        v.method = MethodVariation(m, b);
+        axes = v.method == v1::FABRIC_METHOD_UNSPECIFIED ? 2 : 1;
+      } else {
+        if (m.resolution != b.resolution) v.spatial_resolution = std::stoul(m.resolution), ++axes;
+        if (m.directions != b.directions || m.lights != b.lights) {
+          if (m.directions != m.lights) axes += 2;  // unequal views and lights: not one the planner sets
+          v.directions = std::stoul(m.directions), ++axes;
+        }
+        if (m.lobes != b.lobes) v.lobes = std::stoul(m.lobes), ++axes;
+        if (m.lookup_table != b.lookup_table) v.lookup_table = m.lookup_table == "1" ? 1 : 0, ++axes;
+        if (m.supersampling != b.supersampling) {
+          v.supersampling = std::stoul(m.supersampling);
+          if (v.spatial_resolution == 0) axes += 2;  // alone it is not a setting the planner varies
+        }
       }
       const bool same_as_before = by_class.empty() ||
-                                  (v.spatial_resolution == variation.spatial_resolution &&
+                                  (v.method == variation.method && v.spatial_resolution == variation.spatial_resolution &&
                                    v.directions == variation.directions && v.lobes == variation.lobes &&
                                    v.lookup_table == variation.lookup_table &&
                                    v.supersampling == variation.supersampling);
@@ -171,6 +200,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
         single_change = false;
         break;
       }
+      variation.method = v.method;
       variation.spatial_resolution = v.spatial_resolution;
       variation.directions = v.directions;
       variation.lobes = v.lobes;
@@ -214,15 +244,16 @@ std::string VariationsAsCpp(const std::vector<MeasuredVariation>& variations) {
   std::string text =
       "// {configuration, footprint class, fabric kind, spatial_resolution, directions, lobes, lookup_table, "
       "supersampling,\n//  mean PSNR change dB, worst PSNR change dB, precompute CPU-time ratio, bytes ratio, "
-      "scenes}\n";
+      "scenes, method}\n";
   for (const MeasuredVariation& v : variations) {
     char line[512];
     std::snprintf(line, sizeof line,
-                  "    {\"%s\", FootprintClass::%s, FabricKind::%s, %u, %u, %u, %d, %u, %.3f, %.3f, %.4f, %.4f, %d},\n",
+                  "    {\"%s\", FootprintClass::%s, FabricKind::%s, %u, %u, %u, %d, %u, %.3f, %.3f, %.4f, %.4f, %d, "
+                  "v1::%s},\n",
                   v.configuration.c_str(), kClass[static_cast<int>(v.footprint)],
                   kKind[static_cast<int>(v.fabric_kind)], v.spatial_resolution, v.directions, v.lobes,
                   v.lookup_table, v.supersampling, v.psnr_change_db, v.worst_psnr_change_db, v.precompute_ratio,
-                  v.bytes_ratio, v.scenes);
+                  v.bytes_ratio, v.scenes, v1::FabricMethod_Name(v.method).c_str());
     text += line;
   }
   return text;

@@ -87,6 +87,14 @@ class FabricMethod {
   // `settings` (defaults applied) with the fields that do not reach this method's
   // asset cleared: the cache key hashes what is left.
   virtual v1::PrecomputeSettings KeySettings(v1::PrecomputeSettings settings) const = 0;
+  // The method's own settings in `settings` (defaults applied; e.g. factored's rank)
+  // as compact JSON, "" for a method without any: what a sweep row records beside
+  // the settings every method shares, so that two configurations of one method
+  // are told apart.
+  virtual std::string OwnSettings(const v1::PrecomputeSettings& settings) const {
+    static_cast<void>(settings);
+    return {};
+  }
   // `settings` with defaults applied and validated; `sampling_height` is the tile z
   // of the face the texels were sampled on (acquisition's top face).
   virtual std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,

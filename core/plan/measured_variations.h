@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/plan/fabric_kind.h"
+#include "loom/v1/precompute.pb.h"
 
 namespace loom {
 
@@ -44,6 +45,9 @@ struct MeasuredVariation {
   double precompute_ratio = 1.0;  // mean precompute CPU seconds over the default's
   double bytes_ratio = 1.0;
   int scenes = 0;                 // how many scenes the figures are over
+  // Another fabric method at its own defaults (and the settings above unchanged);
+  // unspecified: the default method.
+  v1::FabricMethod method = v1::FABRIC_METHOD_UNSPECIFIED;
 };
 
 const std::vector<MeasuredVariation>& StandardSweepVariations();

@@ -30,6 +30,11 @@ std::string ClassName(const FabricPlan& plan) {
 }
 
 void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
+  if (v.method != v1::FABRIC_METHOD_UNSPECIFIED) {
+    v1::PrecomputeSettings method;
+    method.set_method(v.method);
+    settings = WithDefaults(method);  // the method at its own defaults, as measured
+  }
   if (v.spatial_resolution != 0) settings.set_spatial_resolution(v.spatial_resolution);
   if (v.supersampling != 0) settings.set_supersampling(v.supersampling);
   if (v.directions != 0) {
@@ -95,6 +100,12 @@ void Plan(FabricPlan& plan, double budget, const std::vector<MeasuredVariation>&
     if (v.spatial_resolution != 0 && v.spatial_resolution < plan.footprint_resolution) {
       plan.reasons.push_back(Format("not %s: %u texels a side are fewer than the footprint can show",
                                     v.configuration.c_str(), v.spatial_resolution));
+      continue;
+    }
+    if (v.bytes_ratio > kMaxPlannedBytesRatio) {
+      plan.reasons.push_back(Format("not %s: its asset measured x%.1f the defaults' bytes, more than the x%.0f a plan "
+                                    "may grow it",
+                                    v.configuration.c_str(), v.bytes_ratio, kMaxPlannedBytesRatio));
       continue;
     }
     if (!(v.precompute_ratio < 1.0)) {

@@ -13,7 +13,9 @@
 //    measurements of its footprint class, taking for each variation the worst
 //    loss and the highest cost any kind showed.
 // 3. Measurements. Each measured variation of the class (resolution — never below
-//    the footprint's bound —, directions, lobes, LUT) is a candidate if its WORST
+//    the footprint's bound —, directions, lobes, LUT, or another fabric method at
+//    its defaults, whose asset is at most kMaxPlannedBytesRatio times the
+//    defaults') is a candidate if its WORST
 //    measured PSNR loss, over every scene of its class the sweep measured, is within
 //    the error budget — not merely its mean (a class's mean hid a shiny satin
 //    losing 2 dB among matte fabrics losing nothing, and far knits losing 8 dB
@@ -41,6 +43,9 @@ namespace loom {
 
 inline constexpr double kDefaultErrorBudgetDb = 0.5;
 inline constexpr uint32_t kMinPlannedResolution = 4;
+// A plan saves precompute; it may not buy it with an asset this many times the
+// defaults' (the tabulated ceiling's is ~60 times: a measurement, not a plan).
+inline constexpr double kMaxPlannedBytesRatio = 10.0;
 
 struct FabricPlan {
   std::string key;                   // FabricKey of the planned settings

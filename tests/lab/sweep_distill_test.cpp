@@ -78,6 +78,49 @@ TEST(SweepDistill, MeansPerFootprintClassAgainstTheBaselineOnTheSameScenes) {
             std::string::npos);
 }
 
+// A row of another fabric method: `own` its method_settings column.
+std::vector<std::string> MethodRow(const std::string& configuration, const std::string& scene, double footprint,
+                                   double psnr, double seconds, double bytes, const std::string& method,
+                                   const std::string& own, std::vector<std::string> settings) {
+  std::vector<std::string> row = Row(configuration, scene, footprint, psnr, seconds, bytes, std::move(settings));
+  row[2] = method;
+  row.push_back(own);
+  return row;
+}
+
+TEST(SweepDistill, TakesAnotherMethodAtItsDefaultsAsAVariationAndNoOtherConfigurationOfIt) {
+  CsvTable table = Table({});
+  table.columns.push_back("method_settings");
+  const auto base = [](const std::string& scene, double footprint, double psnr) {
+    std::vector<std::string> row = Row("default", scene, footprint, psnr, 10, 100, kDefault);
+    row.push_back("");
+    return row;
+  };
+  const std::vector<std::string> table81 = {"32", "81", "64", "2", "1", "2"};
+  table.rows = {
+      base("a", 64, 20),
+      base("b", 60, 22),
+      MethodRow("factored", "a", 64, 21, 1, 700, "factored", R"({"rank":4})", table81),
+      MethodRow("factored", "b", 60, 21.5, 1, 700, "factored", R"({"rank":4})", table81),
+      // Not the method's defaults: its own settings, or the shared ones, differ.
+      MethodRow("factored-rank8", "a", 64, 23, 1, 1400, "factored", R"({"rank":8})", table81),
+      MethodRow("factored-rank8", "b", 60, 23, 1, 1400, "factored", R"({"rank":8})", table81),
+      MethodRow("factored-views64", "a", 64, 21, 1, 600, "factored", R"({"rank":4})", kDefault),
+      MethodRow("factored-views64", "b", 60, 21, 1, 600, "factored", R"({"rank":4})", kDefault),
+  };
+  const std::vector<MeasuredVariation> variations = DistillSweep(table);
+  ASSERT_EQ(variations.size(), 1u);
+  const MeasuredVariation& factored = variations[0];
+  EXPECT_EQ(factored.configuration, "factored");
+  EXPECT_EQ(factored.method, v1::FABRIC_METHOD_FACTORED);
+  EXPECT_EQ(factored.directions, 0u);  // the method's own view grid, not a settings change
+  EXPECT_NEAR(factored.psnr_change_db, 0.25, 1e-9);
+  EXPECT_NEAR(factored.worst_psnr_change_db, -0.5, 1e-9);
+  EXPECT_NEAR(factored.precompute_ratio, 0.1, 1e-9);
+  EXPECT_NEAR(factored.bytes_ratio, 7.0, 1e-9);
+  EXPECT_NE(VariationsAsCpp(variations).find("2, v1::FABRIC_METHOD_FACTORED}"), std::string::npos);
+}
+
 TEST(SweepDistill, KeepsEachFabricKindApartWithItsWorstSceneAndSkipsNaNImages) {
   const CsvTable table = Table({
       Row("default", "knit.a", 64, 20, 10, 100, kDefault),

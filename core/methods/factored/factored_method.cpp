@@ -197,6 +197,10 @@ class Factored final : public FabricMethod {
     return WithoutSvbrdfFit(std::move(settings));
   }
 
+  std::string OwnSettings(const v1::PrecomputeSettings& settings) const override {
+    return SpecToJson(settings.factored(), false);
+  }
+
   std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
                                      const v1::PrecomputeSettings& settings,
                                      const BuildProgress& progress) const override {

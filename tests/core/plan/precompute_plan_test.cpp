@@ -135,6 +135,39 @@ TEST(PrecomputePlan, PassesOverAVariationThatSavesNothingAndSaysSo) {
   EXPECT_TRUE(said);
 }
 
+TEST(PrecomputePlan, ChoosesAnotherMethodAtItsDefaultsUnlessItsAssetGrowsTooMuch) {
+  const v1::SceneSpec scene = PlaneScene(2);  // near
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation factored = Variation("factored", FootprintClass::kNear, 1.5, 0.1);
+  factored.worst_psnr_change_db = 0.4;
+  factored.bytes_ratio = 7.5;
+  factored.method = v1::FABRIC_METHOD_FACTORED;
+  MeasuredVariation tabulated = Variation("tabulated", FootprintClass::kNear, 2.0, 0.08);
+  tabulated.bytes_ratio = 57.0;
+  tabulated.method = v1::FABRIC_METHOD_TABULATED;
+  const MeasuredVariation lobes1 = [] {
+    MeasuredVariation v = Variation("lobes1", FootprintClass::kNear, -0.2, 0.5);
+    v.lobes = 1;
+    return v;
+  }();
+  const FabricPlan fabric = PlanScene(scene, meshes, 0.5, {lobes1, tabulated, factored}).fabrics[0];
+  EXPECT_EQ(fabric.chosen, (std::vector<std::string>{"factored"}));
+  v1::PrecomputeSettings expected;
+  expected.set_method(v1::FABRIC_METHOD_FACTORED);
+  EXPECT_EQ(fabric.settings.SerializeAsString(), WithDefaults(expected).SerializeAsString());
+  EXPECT_EQ(fabric.settings.view_directions(), 81u);  // the method's own defaults
+  EXPECT_NEAR(fabric.predicted_psnr_loss_db, 0.0, 1e-9);  // a gain on every scene counts as no loss
+  bool said = false;
+  for (const std::string& reason : fabric.reasons) {
+    said |= reason.find("not tabulated: its asset measured x57.0 the defaults' bytes") == 0;
+  }
+  EXPECT_TRUE(said);
+  // A method that lost more than the budget somewhere in the class is not taken.
+  factored.worst_psnr_change_db = -0.6;
+  EXPECT_EQ(PlanScene(scene, meshes, 0.5, {lobes1, tabulated, factored}).fabrics[0].chosen,
+            (std::vector<std::string>{"lobes1"}));
+}
+
 TEST(PrecomputePlan, BudgetsTheWorstMeasuredSceneNotTheMean) {
   const v1::SceneSpec scene = PlaneScene(50);  // far
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
