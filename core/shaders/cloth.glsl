@@ -64,9 +64,9 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
   vec4 result = ShadeFabricLevels(tile, f, fragment);
 #endif
 #ifdef LOOM_FABRIC_DECODER
-  // A method that decodes its direct light once per fragment (neural.glsl) from
-  // values the texture filter blends; its texels give the rest.
-  result.rgb += DecodeFabric(tile, f, fragment);
+  // A method that decodes its radiance once per fragment (neural.glsl) from values
+  // the texture filter blends; its texels' blend is a per-view gain it scales.
+  result.rgb = DecodeFabric(tile, f, fragment, result.rgb);
 #endif
   return result;
 }

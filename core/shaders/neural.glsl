@@ -1,12 +1,13 @@
 // The neural method (core/methods/neural/neural_fabric.h): per texel and level a
 // latent vector z, decoded with the view and each light by a shared two-layer ReLU
-// network f(z, e(v, l)) → RGB radiance per unit irradiance (e: the directions'
-// encoding, neural_fabric.h DirectionEncoding). The latents are
-// sampled by the texture filter (bilinear across the tile's periodic edges with
-// bilinear texels, else the texel's own), blended between the footprint's two
-// levels, and decoded once per fragment (LOOM_FABRIC_DECODER: cloth.glsl adds
-// DecodeFabric to the blend of the texels' ambient response and coverage, which the
-// view atlas holds as in the other table methods). Directions in the tile frame.
+// network f(z, e(v, l)) (e: the directions' encoding, neural_fabric.h
+// DirectionEncoding); radiance per unit irradiance A(v)/π ⊙ max(0, f), A the view
+// atlas's per-view gain (the texel's ambient response). The texels give A and
+// coverage, blended over texels and levels as any method's; the latents are sampled
+// by the texture filter (bilinear across the tile's periodic edges with bilinear
+// texels, else the texel's own), blended between the footprint's two levels, and
+// decoded once per fragment (LOOM_FABRIC_DECODER: cloth.glsl hands the blended A to
+// DecodeFabric). Directions in the tile frame.
 
 #define LOOM_FABRIC_LIGHT_GRID
 #define LOOM_FABRIC_DECODER
@@ -35,10 +36,9 @@ layout(std140) uniform NeuralDecoder {
 };
 uniform sampler2DArray u_fabric_latents;  // layer i: z[4i..4i+3]; mip ℓ: level ℓ's res_ℓ² texels; repeat
 
-// The view atlas's part of a texel: the ambient response and coverage.
+// The view atlas's part of a texel: the gain A and coverage.
 vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
-  vec4 views = FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
-  return vec4(fragment.ambient * views.rgb, views.a);
+  return FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
 }
 
 vec4 FabricLatent(vec2 tile, int level, int layer) {
@@ -65,10 +65,11 @@ float DecoderRow(int row, vec4 x[kHidden]) {
   return sum;
 }
 
-// The fragment's direct radiance: f decoded for each light, clamped at 0, times the
-// light's irradiance and grid weight. The first layer's latent and view part is the
-// same for every light and computed once.
-vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment) {
+// The fragment's radiance from its blended gain A: A times the ambient light, plus
+// A/π times f decoded for each light, clamped at 0, times the light's irradiance and
+// grid weight. The first layer's latent and view part is the same for every light
+// and computed once.
+vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment, vec3 gain) {
   vec4 z[kLatents];
   for (int i = 0; i < kLatents; ++i) {
     z[i] = FabricLatent(tile, f.level0, i);
@@ -108,5 +109,5 @@ vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment) {
     y += u_decoder[kB3].xyz;
     radiance += fragment.light_irradiance[l] * fragment.light_weight[l] * max(y, vec3(0.0));
   }
-  return radiance;
+  return gain * (fragment.ambient + radiance / kPi);
 }

@@ -101,16 +101,15 @@ std::vector<float> EncodePairs(const TabulatedFabric& table, uint32_t frequencie
   return encodings;
 }
 
-// Decodes every (texel, view, light) of `table` with the trained parameters: the
-// ambient response and the error against the table.
+// Decodes every (texel, view, light) of `table` with the trained parameters, as the
+// renderer does (the gain times f clamped at 0): the error against the table.
 void Summarise(const NeuralDecoder& decoder, const TabulatedLevel& table, const std::vector<float>& encodings,
                size_t v_count, size_t l_count, unsigned threads, NeuralLevel& level) {
   const Layout o(decoder);
   const size_t texels = level.texel_count(), size = decoder.inputs() - decoder.channels;
   level.alpha = table.alpha;
-  level.ambient.assign(texels * v_count, glm::vec3(0.0f));
+  level.ambient = table.ambient;
   std::vector<double> residual(texels, 0.0), total(texels, 0.0);
-  const float solid_angle = 2.0f * std::numbers::pi_v<float> / static_cast<float>(l_count);
   ParallelFor(texels, threads, [&](size_t texel, unsigned) {
     Matrix x(o.n, static_cast<Eigen::Index>(l_count));
     Activations a;
@@ -122,17 +121,15 @@ void Summarise(const NeuralDecoder& decoder, const TabulatedLevel& table, const 
         std::copy_n(&encodings[(view * l_count + l) * size], size, &x(decoder.channels, Eigen::Index(l)));
       }
       Forward(decoder.parameters.data(), o, x, a);
-      glm::vec3 sum(0.0f);
+      const glm::vec3 gain = table.ambient[texel * v_count + view] / std::numbers::pi_v<float>;
       for (size_t l = 0; l < l_count; ++l) {
         const glm::vec3 target = table.radiance[(texel * v_count + view) * l_count + l];
         for (int c = 0; c < 3; ++c) {
-          const float value = a.y(c, Eigen::Index(l));
-          sum[c] += std::max(value, 0.0f);
+          const float value = gain[c] * std::max(a.y(c, Eigen::Index(l)), 0.0f);
           residual[texel] += double(value - target[c]) * double(value - target[c]);
           total[texel] += target[c];
         }
       }
-      level.ambient[texel * v_count + view] = solid_angle * sum;
     }
   });
   double residual_sum = 0.0, value_sum = 0.0;
@@ -221,8 +218,8 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   const std::vector<float> encodings = EncodePairs(table, training.frequencies);
   const size_t encoding_size = fabric.decoder.inputs() - channels;
   Draw draw(training.seed);
-  // He-uniform weights for ReLU layers, zero biases, the output bias at the table's
-  // mean; latents uniform in [-½, ½].
+  // He-uniform weights for ReLU layers, zero biases, the output bias at ½ (f of a
+  // Lambertian texel is cos θ_l); latents uniform in [-½, ½].
   const auto fill = [&](size_t start, size_t n, Eigen::Index fan_in) {
     const float bound = std::sqrt(6.0f / static_cast<float>(fan_in));
     for (size_t i = 0; i < n; ++i) theta[start + i] = bound * draw.Symmetric();
@@ -230,20 +227,8 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   fill(o.w1, size_t(o.h * o.n), o.n);
   fill(o.w2, size_t(o.h * o.h), o.h);
   fill(o.w3, size_t(3 * o.h), o.h);
-  glm::dvec3 mean(0.0);
-  for (const glm::vec3& value : table.levels.at(0).radiance) mean += glm::dvec3(value);
-  mean /= static_cast<double>(std::max<size_t>(table.levels[0].radiance.size(), 1));
-  for (int c = 0; c < 3; ++c) theta[o.b3 + size_t(c)] = static_cast<float>(mean[c]);
+  for (int c = 0; c < 3; ++c) theta[o.b3 + size_t(c)] = 0.5f;
   for (size_t i = decoder_count; i < count; ++i) theta[i] = 0.5f * draw.Symmetric();
-
-  // Levels drawn in proportion to the square root of their texels: the coarse
-  // levels, which distant cloth shows, get a fair share of the decoder's attention.
-  std::vector<double> level_cdf;
-  double weight_sum = 0.0;
-  for (const TabulatedLevel& level : table.levels) {
-    weight_sum += std::sqrt(static_cast<double>(level.texel_count()));
-    level_cdf.push_back(weight_sum);
-  }
 
   Adam adam(count);
   std::vector<float> gradient(count);
@@ -253,30 +238,34 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   std::vector<Matrix> chunk_latent(kChunks);  // C × chunk: each sample's latent gradient
   const uint32_t report = std::max<uint32_t>(training.steps / 100, 1);
   for (uint32_t step = 0; step < training.steps; ++step) {
+    // Every level drawn equally often: the coarse levels, which distant cloth shows,
+    // get as much of the shared decoder's attention as the finest (docs/methods.md).
     for (Sample& s : batch) {
-      const double u = static_cast<double>(draw.Below(uint64_t{1} << 32)) * 0x1.0p-32 * weight_sum;
-      s.level = static_cast<uint32_t>(std::upper_bound(level_cdf.begin(), level_cdf.end(), u) - level_cdf.begin());
-      s.level = std::min<uint32_t>(s.level, static_cast<uint32_t>(table.levels.size() - 1));
+      s.level = draw.Below(table.levels.size());
       s.texel = draw.Below(table.levels[s.level].texel_count());
       s.view = draw.Below(views);
       s.light = draw.Below(lights);
     }
     ParallelFor(kChunks, threads, [&](size_t k, unsigned) {
-      Matrix x(o.n, chunk), target(3, chunk);
+      Matrix x(o.n, chunk), target(3, chunk), gain(3, chunk);
       for (uint32_t s = 0; s < chunk; ++s) {
         const Sample& sample = batch[k * chunk + s];
         const float* z = &theta[latent_start[sample.level] + size_t{sample.texel} * channels];
         for (uint32_t c = 0; c < channels; ++c) x(c, s) = z[c];
         std::copy_n(&encodings[(size_t{sample.view} * lights + sample.light) * encoding_size], encoding_size,
                     &x(channels, s));
-        const glm::vec3 t =
-            table.levels[sample.level].radiance[(size_t{sample.texel} * views + sample.view) * lights + sample.light];
+        const TabulatedLevel& level = table.levels[sample.level];
+        const size_t pair = size_t{sample.texel} * views + sample.view;
+        const glm::vec3 t = level.radiance[pair * lights + sample.light];
+        const glm::vec3 a = level.ambient[pair] / std::numbers::pi_v<float>;
         target.col(s) << t.x, t.y, t.z;
+        gain.col(s) << a.x, a.y, a.z;
       }
       Activations a;
       Forward(theta.data(), o, x, a);
-      // Loss: the mean squared error over the batch's samples and channels.
-      const Matrix d3 = (a.y - target) * (2.0f / (3.0f * kNeuralBatch));
+      // Loss: the mean squared error of gain ⊙ f over the batch's samples and channels.
+      const Matrix d3 =
+          (gain.cwiseProduct(a.y) - target).cwiseProduct(gain) * (2.0f / (3.0f * kNeuralBatch));
       float* g = chunk_decoder[k].data();
       WeightGradients(g + o.w3, 3, o.h).noalias() = d3 * a.h2.transpose();
       BiasGradient(g + o.b3, 3) = d3.rowwise().sum();
@@ -327,10 +316,13 @@ glm::vec4 EvaluateNeural(const NeuralFabric& fabric, uint32_t level_index, size_
   const uint32_t light_side = HemisphereGridSide(static_cast<uint32_t>(fabric.light_count()));
   const GridPoint v = LocateOnGrid(view, view_side);
   const GridPoint l = LocateOnGrid(light, light_side);
-  const glm::vec3 radiance = fabric.decoder.Decode(&level.latents.at(texel * fabric.decoder.channels),
-                                                   glm::vec2(view), glm::vec2(light));
+  const glm::vec3 f = fabric.decoder.Decode(&level.latents.at(texel * fabric.decoder.channels), glm::vec2(view),
+                                            glm::vec2(light));
+  const glm::vec3 gain =
+      Bilinear<glm::vec3>(v, view_side, [&](size_t stored) { return level.ambient[texel * views + stored]; }) /
+      std::numbers::pi_v<float>;
   const float alpha = Bilinear<float>(v, view_side, [&](size_t stored) { return level.alpha[texel * views + stored]; });
-  return {LightWeight(light, l) * glm::max(radiance, glm::vec3(0.0f)), glm::mix(alpha, 1.0f, v.beyond_ring)};
+  return {LightWeight(light, l) * gain * glm::max(f, glm::vec3(0.0f)), glm::mix(alpha, 1.0f, v.beyond_ring)};
 }
 
 }  // namespace loom

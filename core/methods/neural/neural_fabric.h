@@ -1,15 +1,17 @@
 #pragma once
 // The neural method's data (NeuMIP, Kuznetsov et al. 2021): per level and texel a
 // latent vector z of C numbers, and one decoder shared by every texel and level, a
-// multilayer perceptron f(z, e(v, l)) → RGB radiance per unit irradiance of a light
-// from l (two hidden layers of H ReLU units; v and l unit, tile frame; e the
-// directions' encoding, DirectionEncoding). Both
-// are trained together by Adam on the tabulated samples of every level
-// (tabulated_fabric.h), so each level's latents are fitted to that level's pooled
-// samples (fitted mip levels). Coverage alpha and the ambient response stay
-// per (texel, view) tables, as in the other table methods. Deterministic for a seed
-// and a step count, whatever the thread count. EvaluateNeural is the renderer's
-// lookup in C++ (core/shaders/neural.glsl). Derivation: docs/methods.md "neural".
+// multilayer perceptron f(z, e(v, l)) (two hidden layers of H ReLU units; v and l
+// unit, tile frame; e the directions' encoding, DirectionEncoding). The radiance per
+// unit irradiance of a light from l is A(v)/π ⊙ max(0, f): A the texel's ambient
+// response per view, 2π/L·Σ_l L(v, l) from the tabulated samples (tabulated_fabric.h),
+// stored like alpha per (texel, view) and interpolated between stored views, so f
+// carries how the radiance varies with the light and A its colour and level per view.
+// Latents and decoder are trained together by Adam on the tabulated samples of every
+// level, so each level's latents are fitted to that level's pooled samples (fitted mip
+// levels). Deterministic for a seed and a step count, whatever the thread count.
+// EvaluateNeural is the renderer's lookup in C++ (core/shaders/neural.glsl).
+// Derivation: docs/methods.md "neural".
 
 #include <cstdint>
 #include <functional>
@@ -49,9 +51,9 @@ struct NeuralLevel {
   // Texel (x, y) is index y·resolution + x.
   std::vector<float> latents;      // [texel·C + c]
   std::vector<float> alpha;        // [texel·V + view]
-  std::vector<glm::vec3> ambient;  // [texel·V + view]: 2π/L · Σ_l max(f, 0)
-  // RMSE of the decoded table against the tabulated one over every (texel, view,
-  // light, channel), over their mean.
+  std::vector<glm::vec3> ambient;  // [texel·V + view]: A, the table's 2π/L · Σ_l L
+  // RMSE of the decoded table (A/π ⊙ max(0, f)) against the tabulated one over every
+  // (texel, view, light, channel), over their mean.
   double relative_rmse = 0.0;
 
   size_t texel_count() const { return size_t{resolution} * resolution; }

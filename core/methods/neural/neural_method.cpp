@@ -26,8 +26,9 @@ using nlohmann::json;
 constexpr const char* kLatentsFile = "latents.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
-// 1: the first layout.
-constexpr uint32_t kNeuralFormatVersion = 1;
+// 1: the first layout; 2: every level drawn equally often in training; 3: the
+// view atlas's RGB is the per-view gain A (radiance A/π ⊙ f).
+constexpr uint32_t kNeuralFormatVersion = 3;
 // The uniform buffer binding of the decoder's parameters.
 constexpr GLuint kDecoderBinding = 0;
 

@@ -4,7 +4,7 @@
 //
 // Asset directory:
 //   latents.exr    z, channels z00, z01, …: MIP level ℓ is level ℓ's res_ℓ² latents
-//   views.exr      the view atlas: ambient response RGB, alpha A
+//   views.exr      the view atlas: the gain (the table's ambient response) RGB, alpha A
 //   manifest.json  method, asset version, key, settings, the decoder's sizes and
 //                  parameters, per-level training error, checksums (last)
 // Latents in half floats with settings.half_float, full floats otherwise; the
