@@ -53,9 +53,15 @@ void PrintPlan(const ScenePlan& plan) {
     for (const std::string& object : fabric.objects) objects += (objects.empty() ? "" : ", ") + object;
     std::printf("\nfabric %s (objects: %s)\n", fabric.key.substr(0, 12).c_str(), objects.c_str());
     const v1::PrecomputeSettings& s = fabric.settings;
-    std::printf("  settings: %s, %u texels a side, %u views x %u lights, %u lobes, LUT %s, supersampling %u\n",
-                std::string(MethodOf(s.method()).name()).c_str(), s.spatial_resolution(), s.view_directions(), s.light_directions(), s.lobes(),
-                s.lookup_table() ? "on" : "off", s.supersampling());
+    const FabricMethod& method = MethodOf(s.method());
+    std::printf("  settings: %s, %u texels a side, %u views x %u lights, supersampling %u",
+                std::string(method.name()).c_str(), s.spatial_resolution(), s.view_directions(), s.light_directions(),
+                s.supersampling());
+    // svbrdf's fit, where it reaches the method's asset (its key keeps it).
+    const v1::PrecomputeSettings keyed = method.KeySettings(s);
+    if (keyed.lobes() != 0) std::printf(", %u lobes, LUT %s", s.lobes(), s.lookup_table() ? "on" : "off");
+    const std::string own = method.OwnSettings(s);
+    std::printf("%s%s\n", own.empty() ? "" : ", ", own.c_str());
     if (!fabric.explicit_settings) {
       std::printf("  predicted against the defaults: PSNR -%.2f dB at worst, precompute x%.3f, bytes x%.3f\n",
                   fabric.predicted_psnr_loss_db, fabric.predicted_precompute_ratio, fabric.predicted_bytes_ratio);

@@ -9,8 +9,9 @@
 //
 // StandardSweepVariations() is compiled in, distilled from the committed
 // docs/results/sweep.csv and its repeats under other seeds (seeds.csv,
-// far_seeds.csv; a figure is the mean over its seeds) by `loom-lab plan --distill`
-// (lab/sweep_distill.h), so the server plans without reading files.
+// far_seeds.csv; a figure is the mean over its seeds), and the other fabric methods
+// of the methods sweep (methods.csv), by `loom-lab plan --distill` (lab/sweep_distill.h),
+// so the server plans without reading files.
 
 #include <cstdint>
 #include <string>

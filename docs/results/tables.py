@@ -66,7 +66,7 @@ def sweep(path):
                          f"{med(col('flicker'), '%.3f')} / {med(col('frame_ms'), '%.0f')}")
         print(f"| {label} | {n} | " + " | ".join(cells) + " |")
 
-SETTINGS = ("spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
+SETTINGS = ("method", "method_settings", "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
             "supersampling", "level_mode", "texel_filter", "msaa_samples", "lod_bias")
 
 def seed_means(tables):
@@ -75,7 +75,7 @@ def seed_means(tables):
     by_seed = {}
     for table in tables:
         for r in table:
-            if r["method"] == "svbrdf":
+            if r["method"] != "reference":
                 by_seed.setdefault((r["scene"],) + tuple(r[k] for k in SETTINGS), {})[r["seed"]] = num(r["psnr_db"])
     return {key: (statistics.mean(v.values()), len(v)) for key, v in by_seed.items()}
 
@@ -122,12 +122,14 @@ def plan(path, budget=0.5, repeat_paths=()):
         print(f"| {f} | {sum(r['within'] for r in mine)} of {len(mine)} | {statistics.median([r['change'] for r in mine]):+.2f} dB | "
               f"{min(r['change'] for r in mine):+.2f} dB | ×{statistics.median([r['t'] for r in mine]):.3f} | ×{statistics.median([r['b'] for r in mine]):.3f} |")
     print()
-    print("| scene | tile px | plan: texels, directions, lobes, LUT, ss | precompute CPU s default → plan | bytes KiB default → plan | PSNR dB default → plan | change | within 0.5 dB | change of seed means (seeds) |")
+    print("| scene | tile px | plan: method, texels, views, lobes, LUT, ss | precompute CPU s default → plan | bytes KiB default → plan | PSNR dB default → plan | change | within 0.5 dB | change of seed means (seeds) |")
     print("|---|---|---|---|---|---|---|---|---|")
     for r in rec:
         d, p = r["d"], r["p"]
         print(f"| {r['scene']} | {d['footprint_pixels'] and '%.0f' % num(d['footprint_pixels'])} | "
-              f"{p['spatial_resolution']}, {p['view_directions']}, {p['lobes']}, {'on' if p['lookup_table'] == '1' else 'off'}, {p['supersampling']} | "
+              f"{p['method']}, {p['spatial_resolution']}, {p['view_directions']}, "
+              + (f"{p['lobes']}, {'on' if p['lookup_table'] == '1' else 'off'}" if p['method'] == 'svbrdf' else "–, –")
+              + f", {p['supersampling']} | "
               f"{num(d['precompute_cpu_seconds']):.1f} → {num(p['precompute_cpu_seconds']):.1f} (×{r['t']:.2f}) | "
               f"{num(d['asset_bytes']) / 1024:.0f} → {num(p['asset_bytes']) / 1024:.0f} (×{r['b']:.2f}) | "
               f"{num(d['psnr_db']):.2f} → {num(p['psnr_db']):.2f} | {r['change']:+.2f} | {'yes' if r['within'] else '**no**'} | "
