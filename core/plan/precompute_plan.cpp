@@ -48,7 +48,8 @@ void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
 // The measurements of the fabric's class of scene (footprint class and kind). For a
 // kind the table does not hold at this footprint class, each configuration's
 // measurements over every kind, merged pessimistically: the lowest worst-case
-// change, the highest ratios.
+// change, the highest ratios; so too for a configuration measured on fewer than
+// kMinClassScenes scenes of the class.
 std::vector<MeasuredVariation> ApplicableVariations(FabricPlan& plan, const std::vector<MeasuredVariation>& variations) {
   std::vector<MeasuredVariation> same_class, any_kind;
   for (const MeasuredVariation& v : variations) {
@@ -67,7 +68,18 @@ std::vector<MeasuredVariation> ApplicableVariations(FabricPlan& plan, const std:
     merged->scenes += v.scenes;
   }
   plan.kind_measured = !same_class.empty();
-  if (plan.kind_measured) return same_class;
+  if (plan.kind_measured) {
+    for (MeasuredVariation& v : same_class) {
+      if (v.scenes >= kMinClassScenes) continue;
+      const auto merged = std::find_if(any_kind.begin(), any_kind.end(),
+                                       [&](const MeasuredVariation& m) { return m.configuration == v.configuration; });
+      plan.reasons.push_back(Format("%s: measured on %d %s scenes only: taken at the worst of every kind %s",
+                                    v.configuration.c_str(), v.scenes, FabricKindName(plan.fabric_kind),
+                                    FootprintClassName(plan.footprint_class)));
+      v = *merged;
+    }
+    return same_class;
+  }
   plan.reasons.push_back(Format("no measurements of %s fabrics %s: planned from the worst of every kind",
                                 FabricKindName(plan.fabric_kind), FootprintClassName(plan.footprint_class)));
   return any_kind;

@@ -11,7 +11,9 @@
 //    matte) and the footprint class make the class of scene whose measurements
 //    apply. A kind the sweep did not measure is planned from every kind's
 //    measurements of its footprint class, taking for each variation the worst
-//    loss and the highest cost any kind showed.
+//    loss and the highest cost any kind showed; so is a variation measured on
+//    fewer than kMinClassScenes scenes of the class (a worst case over two scenes
+//    is none: docs/results/plan.md, "Plan against defaults on the bench scenes").
 // 3. Measurements. Each measured variation of the class (resolution — never below
 //    the footprint's bound —, directions, lobes, LUT, or another fabric method at
 //    its defaults, whose asset is at most kMaxPlannedBytesRatio times the
@@ -43,6 +45,7 @@ namespace loom {
 
 inline constexpr double kDefaultErrorBudgetDb = 0.5;
 inline constexpr uint32_t kMinPlannedResolution = 4;
+inline constexpr int kMinClassScenes = 3;
 // A plan saves precompute; it may not buy it with an asset this many times the
 // defaults' (the tabulated ceiling's is ~60 times: a measurement, not a plan).
 inline constexpr double kMaxPlannedBytesRatio = 10.0;

@@ -168,6 +168,27 @@ TEST(PrecomputePlan, ChoosesAnotherMethodAtItsDefaultsUnlessItsAssetGrowsTooMuch
             (std::vector<std::string>{"lobes1"}));
 }
 
+TEST(PrecomputePlan, AVariationMeasuredOnTooFewScenesOfTheClassIsTakenAtTheWorstOfEveryKind) {
+  v1::SceneSpec scene = PlaneScene(50);  // far
+  scene.mutable_objects(0)->mutable_fabric()->mutable_fabric()->mutable_woven();
+  const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
+  MeasuredVariation woven = Variation("dirs36", FootprintClass::kFar, 0.0, 0.4);
+  woven.fabric_kind = FabricKind::kWovenMatte;
+  woven.directions = 36;
+  woven.scenes = kMinClassScenes - 1;
+  MeasuredVariation knit = woven;
+  knit.fabric_kind = FabricKind::kKnitMatte;
+  knit.worst_psnr_change_db = -1.5;
+  knit.scenes = 6;
+  const FabricPlan thin = PlanScene(scene, meshes, 0.5, {woven, knit}).fabrics[0];
+  EXPECT_TRUE(thin.chosen.empty());
+  bool said = false;
+  for (const std::string& reason : thin.reasons) said |= reason.find("dirs36: measured on 2 woven-matte scenes only") == 0;
+  EXPECT_TRUE(said);
+  woven.scenes = kMinClassScenes;  // enough scenes: its own class's figures
+  EXPECT_EQ(PlanScene(scene, meshes, 0.5, {woven, knit}).fabrics[0].chosen, (std::vector<std::string>{"dirs36"}));
+}
+
 TEST(PrecomputePlan, BudgetsTheWorstMeasuredSceneNotTheMean) {
   const v1::SceneSpec scene = PlaneScene(50);  // far
   const auto meshes = BuildSceneGeometry(scene, FileMeshResolver({}));
