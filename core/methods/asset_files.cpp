@@ -143,7 +143,7 @@ std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const
 
 std::vector<float> AmbientAlphaAtlas(const std::vector<glm::vec3>& ambient, const std::vector<float>& alpha,
                                      uint32_t resolution, size_t views) {
-  const uint32_t k = HemisphereGridSide(static_cast<uint32_t>(views));
+  const uint32_t k = GridSide(views);
   const size_t texels = size_t{resolution} * resolution;
   std::vector<float> pixels(texels * views * 4);
   for (size_t texel = 0; texel < texels; ++texel) {
@@ -160,7 +160,7 @@ std::vector<float> AmbientAlphaAtlas(const std::vector<glm::vec3>& ambient, cons
 void ReadAmbientAlphaAtlas(const std::vector<float>& atlas, uint32_t resolution, size_t views,
                            std::vector<glm::vec3>& ambient, std::vector<float>& alpha,
                            const std::function<Error(const std::string&)>& invalid) {
-  const uint32_t k = HemisphereGridSide(static_cast<uint32_t>(views));
+  const uint32_t k = GridSide(views);
   const size_t texels = size_t{resolution} * resolution;
   ambient.resize(texels * views);
   alpha.resize(texels * views);

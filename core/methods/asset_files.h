@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/methods/direction_grid.h"
 #include "core/util/error.h"
 #include "loom/v1/precompute.pb.h"
 
@@ -47,6 +48,18 @@ std::vector<float> AmbientAlphaAtlas(const std::vector<glm::vec3>& ambient, cons
 void ReadAmbientAlphaAtlas(const std::vector<float>& atlas, uint32_t resolution, size_t views,
                            std::vector<glm::vec3>& ambient, std::vector<float>& alpha,
                            const std::function<Error(const std::string&)>& invalid);
+
+// Those atlases of every level as one image (a method's views.exr): level ℓ of side
+// res_ℓ·k. `Level` has resolution, ambient and alpha as TabulatedLevel has.
+template <typename Level>
+LevelImage AmbientAlphaImage(const std::vector<Level>& levels, size_t views) {
+  LevelImage image{{"R", "G", "B", "A"}, {}, {}};
+  for (const Level& level : levels) {
+    image.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, views));
+    image.sides.push_back(static_cast<int>(level.resolution * GridSide(views)));
+  }
+  return image;
+}
 
 // Writes `image` to a temporary name beside `path`, then renames it; returns the
 // file's SHA-256. Several levels become a tiled MIP-mapped OpenEXR, which must go

@@ -14,6 +14,9 @@
 
 namespace loom {
 
+// k of the k×k grid that holds `count` stored directions.
+inline uint32_t GridSide(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
+
 struct GridPoint {
   glm::ivec2 lower, upper;  // stored (col, row) corners, clamped to the grid
   glm::vec2 weight;         // towards `upper`

@@ -111,8 +111,8 @@ glm::vec4 EvaluateFactored(const FactoredFabric& fabric, uint32_t level_index, s
                            glm::vec3 light) {
   const FactoredLevel& level = fabric.levels.at(level_index);
   const size_t views = fabric.view_count(), lights = fabric.light_count();
-  const uint32_t view_side = HemisphereGridSide(static_cast<uint32_t>(views));
-  const uint32_t light_side = HemisphereGridSide(static_cast<uint32_t>(lights));
+  const uint32_t view_side = GridSide(views);
+  const uint32_t light_side = GridSide(lights);
   const GridPoint v = LocateOnGrid(view, view_side);
   const GridPoint l = LocateOnGrid(light, light_side);
   glm::vec3 sum(0.0f);

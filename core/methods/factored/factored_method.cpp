@@ -9,6 +9,7 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/direction_grid.h"
 #include "core/methods/level_texture.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/spec/defaults.h"
@@ -29,13 +30,11 @@ constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout.
 constexpr uint32_t kFactoredFormatVersion = 1;
 
-uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
-
 // The terms of one level over one grid (`count` stored directions), layer-major:
 // layer k is term k's direction atlas, RGB floats. `terms` is [(texel·K + k)·count + d].
 std::vector<std::vector<float>> TermLayers(const std::vector<glm::vec3>& terms, uint32_t rank, uint32_t resolution,
                                            size_t count) {
-  const uint32_t k = Side(count);
+  const uint32_t k = GridSide(count);
   const size_t texels = size_t{resolution} * resolution;
   std::vector<std::vector<float>> layers(rank, std::vector<float>(texels * count * 3));
   for (size_t texel = 0; texel < texels; ++texel) {
@@ -70,7 +69,7 @@ LevelImage TermImage(const FactoredFabric& fabric, char name, size_t count, cons
         std::copy_n(&layers[term][p * 3], 3, &out[(p * fabric.rank + term) * 3]);
       }
     }
-    image.sides.push_back(static_cast<int>(level.resolution * Side(count)));
+    image.sides.push_back(static_cast<int>(level.resolution * GridSide(count)));
   }
   return image;
 }
@@ -78,7 +77,7 @@ LevelImage TermImage(const FactoredFabric& fabric, char name, size_t count, cons
 // The inverse of TermImage for one level's pixels.
 std::vector<glm::vec3> TermsFromImage(const std::vector<float>& pixels, uint32_t rank, uint32_t resolution,
                                       size_t count) {
-  const uint32_t k = Side(count);
+  const uint32_t k = GridSide(count);
   const size_t texels = size_t{resolution} * resolution;
   std::vector<glm::vec3> terms(texels * rank * count);
   for (size_t texel = 0; texel < texels; ++texel) {
@@ -96,7 +95,7 @@ class FactoredTextures final : public GpuFabric {
  public:
   FactoredTextures(const FactoredFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
-                 static_cast<int>(Side(fabric.view_count())), static_cast<int>(Side(fabric.light_count())),
+                 static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
                  fabric.sampling_height},
         rank_(static_cast<int>(fabric.rank)),
         views_(surface_.levels, surface_.resolution * surface_.view_side, 4, half),
@@ -159,8 +158,8 @@ FactoredFabric ReadFactored(const std::filesystem::path& directory) {
       FactoredLevel& level = fabric.levels.emplace_back();
       level.resolution = entry.at("resolution");
       level.relative_rmse = entry.at("relative_rmse");
-      view_sides.push_back(static_cast<int>(level.resolution * Side(views)));
-      light_sides.push_back(static_cast<int>(level.resolution * Side(lights)));
+      view_sides.push_back(static_cast<int>(level.resolution * GridSide(views)));
+      light_sides.push_back(static_cast<int>(level.resolution * GridSide(lights)));
     }
     const json& files = manifest.at("files");
     const auto a = ReadLevelImage(VerifiedFile(directory, files, kViewTermsFile, view_sides[0]), view_sides,
@@ -234,12 +233,8 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
       WriteLevelImage(TermImage(fabric_, 'a', fabric_.view_count(), view_terms), directory / kViewTermsFile, half);
   const std::string b_sha =
       WriteLevelImage(TermImage(fabric_, 'b', fabric_.light_count(), light_terms), directory / kLightTermsFile, half);
-  LevelImage views{{"R", "G", "B", "A"}, {}, {}};
-  for (const FactoredLevel& level : fabric_.levels) {
-    views.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, fabric_.view_count()));
-    views.sides.push_back(static_cast<int>(level.resolution * Side(fabric_.view_count())));
-  }
-  const std::string views_sha = WriteLevelImage(views, directory / kViewsFile, half);
+  const std::string views_sha =
+      WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
                                 fabric_.sampling_height, fabric_.seconds};

@@ -312,8 +312,8 @@ glm::vec4 EvaluateNeural(const NeuralFabric& fabric, uint32_t level_index, size_
                          glm::vec3 light) {
   const NeuralLevel& level = fabric.levels.at(level_index);
   const size_t views = fabric.view_count();
-  const uint32_t view_side = HemisphereGridSide(static_cast<uint32_t>(views));
-  const uint32_t light_side = HemisphereGridSide(static_cast<uint32_t>(fabric.light_count()));
+  const uint32_t view_side = GridSide(views);
+  const uint32_t light_side = GridSide(fabric.light_count());
   const GridPoint v = LocateOnGrid(view, view_side);
   const GridPoint l = LocateOnGrid(light, light_side);
   const glm::vec3 f = fabric.decoder.Decode(&level.latents.at(texel * fabric.decoder.channels), glm::vec2(view),

@@ -10,6 +10,7 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/direction_grid.h"
 #include "core/methods/level_texture.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/spec/defaults.h"
@@ -32,8 +33,6 @@ constexpr uint32_t kNeuralFormatVersion = 3;
 // The uniform buffer binding of the decoder's parameters.
 constexpr GLuint kDecoderBinding = 0;
 
-uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
-
 std::vector<std::string> LatentChannels(uint32_t channels) {
   std::vector<std::string> names;
   for (uint32_t c = 0; c < channels; ++c) names.push_back((c < 10 ? "z0" : "z") + std::to_string(c));
@@ -53,7 +52,7 @@ class NeuralTextures final : public GpuFabric {
  public:
   NeuralTextures(const NeuralFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
-                 static_cast<int>(Side(fabric.view_count())), static_cast<int>(Side(fabric.light_count())),
+                 static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
                  fabric.sampling_height},
         channels_(fabric.decoder.channels),
         hidden_(fabric.decoder.hidden),
@@ -166,7 +165,7 @@ NeuralFabric ReadNeural(const std::filesystem::path& directory) {
       level.resolution = entry.at("resolution");
       level.relative_rmse = entry.at("relative_rmse");
       sides.push_back(static_cast<int>(level.resolution));
-      view_sides.push_back(static_cast<int>(level.resolution * Side(views)));
+      view_sides.push_back(static_cast<int>(level.resolution * GridSide(views)));
     }
     const json& files = manifest.at("files");
     const auto latents = ReadLevelImage(VerifiedFile(directory, files, kLatentsFile, sides[0]), sides,
@@ -235,15 +234,13 @@ void NeuralAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
   std::filesystem::create_directories(directory);
   const uint32_t channels = fabric_.decoder.channels;
   LevelImage latents{LatentChannels(channels), {}, {}};
-  LevelImage views{{"R", "G", "B", "A"}, {}, {}};
   for (const NeuralLevel& level : fabric_.levels) {
     latents.pixels.push_back(level.latents);
     latents.sides.push_back(static_cast<int>(level.resolution));
-    views.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, fabric_.view_count()));
-    views.sides.push_back(static_cast<int>(level.resolution * Side(fabric_.view_count())));
   }
   const std::string latents_sha = WriteLevelImage(latents, directory / kLatentsFile, half);
-  const std::string views_sha = WriteLevelImage(views, directory / kViewsFile, half);
+  const std::string views_sha =
+      WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
                                 fabric_.sampling_height, fabric_.seconds};

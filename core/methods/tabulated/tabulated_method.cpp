@@ -9,6 +9,7 @@
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/direction_grid.h"
 #include "core/methods/level_texture.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/spec/defaults.h"
@@ -28,8 +29,6 @@ constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout.
 constexpr uint32_t kTabulatedFormatVersion = 1;
 
-uint32_t Side(size_t count) { return HemisphereGridSide(static_cast<uint32_t>(count)); }
-
 // The pixel of (texel, view, light) in a level's table atlas (tabulated_method.h):
 // lights on a k_l×k_l block inside the view's cell of the texel's k×k block of views.
 size_t TablePixel(size_t texel, uint32_t resolution, size_t view, size_t light, uint32_t k, uint32_t kl) {
@@ -40,7 +39,7 @@ size_t TablePixel(size_t texel, uint32_t resolution, size_t view, size_t light, 
 // Level `level`'s table atlas, RGB floats, row-major.
 std::vector<float> TableAtlas(const TabulatedFabric& fabric, const TabulatedLevel& level) {
   const size_t views = fabric.view_count(), lights = fabric.light_count();
-  const uint32_t k = Side(views), kl = Side(lights);
+  const uint32_t k = GridSide(views), kl = GridSide(lights);
   const size_t side = size_t{level.resolution} * k * kl;
   std::vector<float> pixels(side * side * 3);
   for (size_t texel = 0; texel < level.texel_count(); ++texel) {
@@ -55,10 +54,10 @@ std::vector<float> TableAtlas(const TabulatedFabric& fabric, const TabulatedLeve
 }
 
 int TableSide(const TabulatedFabric& fabric, uint32_t resolution) {
-  return static_cast<int>(resolution * Side(fabric.view_count()) * Side(fabric.light_count()));
+  return static_cast<int>(resolution * GridSide(fabric.view_count()) * GridSide(fabric.light_count()));
 }
 int ViewsSide(const TabulatedFabric& fabric, uint32_t resolution) {
-  return static_cast<int>(resolution * Side(fabric.view_count()));
+  return static_cast<int>(resolution * GridSide(fabric.view_count()));
 }
 
 // The two atlases of every level, as images.
@@ -71,20 +70,11 @@ LevelImage TableImage(const TabulatedFabric& fabric) {
   return image;
 }
 
-LevelImage ViewsImage(const TabulatedFabric& fabric) {
-  LevelImage image{{"R", "G", "B", "A"}, {}, {}};
-  for (const TabulatedLevel& level : fabric.levels) {
-    image.pixels.push_back(AmbientAlphaAtlas(level.ambient, level.alpha, level.resolution, fabric.view_count()));
-    image.sides.push_back(ViewsSide(fabric, level.resolution));
-  }
-  return image;
-}
-
 class TabulatedTextures final : public GpuFabric {
  public:
   TabulatedTextures(const TabulatedFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
-                 static_cast<int>(Side(fabric.view_count())), static_cast<int>(Side(fabric.light_count())),
+                 static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
                  fabric.sampling_height},
         views_(surface_.levels, ViewsSide(fabric, fabric.levels[0].resolution), 4, half),
         table_(surface_.levels, TableSide(fabric, fabric.levels[0].resolution), 3, half) {
@@ -136,7 +126,7 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
                                        {"R", "G", "B"});
     const auto atlases = ReadLevelImage(VerifiedFile(directory, files, kViewsFile, views_sides[0]), views_sides,
                                         {"R", "G", "B", "A"});
-    const uint32_t k = Side(views), kl = Side(lights);
+    const uint32_t k = GridSide(views), kl = GridSide(lights);
     for (size_t j = 0; j < fabric.levels.size(); ++j) {
       TabulatedLevel& level = fabric.levels[j];
       const auto bad = [](float value) { return !(value >= 0.0f && std::isfinite(value)); };
@@ -198,7 +188,7 @@ void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::st
   const bool half = resolved.half_float();
   std::filesystem::create_directories(directory);
   const std::string table_sha = WriteLevelImage(TableImage(fabric_), directory / kTableFile, half);
-  const std::string views_sha = WriteLevelImage(ViewsImage(fabric_), directory / kViewsFile, half);
+  const std::string views_sha = WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
                                 fabric_.sampling_height, fabric_.seconds};
