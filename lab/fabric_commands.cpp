@@ -168,8 +168,7 @@ LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags) {
             std::unique_ptr<FabricAsset> asset;
             {
               ProgressBar bar(std::string(method.name()));
-              // The sampling height places texels in frames; no figure depends on it.
-              asset = method.Build(samples, 0.0f, settings,
+              asset = method.Build(samples, settings,
                                    [&bar](double f, std::string_view stage) { bar.Update(f, stage); });
             }
             const nlohmann::json figures = asset->Figures();

@@ -41,7 +41,7 @@ const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "method_settings", "fabric", "view", "distance", "tile_pixels",
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-    "supersampling", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "reference_samples",
+    "supersampling", "sampling_plane", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "reference_samples",
     "precompute_seconds", "precompute_cpu_seconds", "asset_bytes", "frame_ms", "gpu_ms",
     "rmse", "psnr_db", "perceptual_error", "flicker", "load_average"};
 
@@ -265,6 +265,7 @@ class Sweep {
                      when_svbrdf(std::to_string(precompute.lobes())),
                      when_svbrdf(precompute.lookup_table() ? "1" : "0"),
                      when_svbrdf(std::to_string(precompute.supersampling())),
+                     when_svbrdf(SamplingPlaneColumn(precompute.sampling_plane())),
                      when_svbrdf(std::to_string(precompute.seed())),
                      when_svbrdf(render_columns.level_mode), when_svbrdf(render_columns.texel_filter),
                      when_svbrdf(render_columns.msaa_samples), when_svbrdf(render_columns.lod_bias),

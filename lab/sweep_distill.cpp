@@ -21,7 +21,7 @@ struct Measured {
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
   std::string method, method_settings, resolution, directions, lights, lobes, lookup_table, supersampling,
-      level_mode, texel_filter, msaa, lod_bias, seed;
+      sampling_plane, level_mode, texel_filter, msaa, lod_bias, seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
@@ -29,7 +29,7 @@ double ToNumber(const std::string& field) { return field.empty() ? NAN : std::st
 // What a row was fitted and rendered with, as far as the CSV says, its seed left out.
 std::string Settings(const Measured& m) {
   return m.method + ',' + m.method_settings + ',' + m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
-         m.supersampling + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias;
+         m.supersampling + ',' + m.sampling_plane + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias;
 }
 
 // Every row takes the mean figures over the seeds measured on its scene with its
@@ -65,7 +65,8 @@ void AverageRepeats(std::map<std::string, std::map<std::string, Measured>>& rows
 
 // A configuration of another method than the baseline's, at that method's defaults
 // with the baseline's resolution, lights and supersampling: the method (else
-// unspecified). Its views are the method's default (the table methods' 9×9).
+// unspecified). Its views and sampling plane are the method's defaults (the table
+// methods' 9×9 and view-depth planes).
 v1::FabricMethod MethodVariation(const Measured& m, const Measured& b) {
   const FabricMethod* method = MethodNamed(m.method);
   if (method == nullptr || m.method == b.method) return v1::FABRIC_METHOD_UNSPECIFIED;
@@ -75,6 +76,7 @@ v1::FabricMethod MethodVariation(const Measured& m, const Measured& b) {
   const bool defaults = m.resolution == b.resolution && m.lights == b.lights &&
                         m.supersampling == b.supersampling &&
                         m.directions == std::to_string(own.view_directions()) &&
+                        m.sampling_plane == SamplingPlaneColumn(own.sampling_plane()) &&
                         m.method_settings == method->OwnSettings(own);
   return defaults ? method->id() : v1::FABRIC_METHOD_UNSPECIFIED;
 }
@@ -92,11 +94,16 @@ FabricKind ToKind(const std::string& field, const std::string& scene) {
 
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline) {
   const auto column = [&](const char* name) { return table.Column(name); };
-  // Sweeps before fabric methods had no method_settings column: no method had any.
-  const auto own = std::find(table.columns.begin(), table.columns.end(), "method_settings");
-  const auto own_settings = [&](const std::vector<std::string>& row) {
-    return own == table.columns.end() ? std::string() : row[size_t(own - table.columns.begin())];
+  // A column older sweeps lack: what every row of them had.
+  const auto optional_column = [&](const char* name, std::string before) {
+    const auto found = std::find(table.columns.begin(), table.columns.end(), name);
+    return [found, before, &table](const std::vector<std::string>& row) {
+      return found == table.columns.end() ? before : row[size_t(found - table.columns.begin())];
+    };
   };
+  // Sweeps before fabric methods had no method settings, before sampling planes the top face.
+  const auto own_settings = optional_column("method_settings", "");
+  const auto sampling_plane = optional_column("sampling_plane", kSamplingPlaneBeforeTheColumn);
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
                footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_cpu_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
@@ -115,7 +122,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                             ToNumber(row[bytes]), row[method], own_settings(row),
                                             row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
-                                            row[supersampling], row[level],         row[filter],
+                                            row[supersampling], sampling_plane(row), row[level], row[filter],
                                             row[msaa],          row[lod_bias],      row[seed]};
   }
   AverageRepeats(rows);
@@ -139,6 +146,15 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                                  " was rendered with " + describe(rendered) +
                                                  ", but the default render is " + describe(default_render) +
                                                  ": render the sweep's svbrdf rows again with the defaults");
+  }
+  // So with the plane acquisition samples on: the baseline's must be the default's.
+  const std::string default_plane = SamplingPlaneColumn(WithDefaults(v1::PrecomputeSettings()).sampling_plane());
+  for (const auto& [scene_name, b] : base) {
+    if (b.sampling_plane == default_plane) continue;
+    throw Error(ErrorCode::kInvalidArgument, "sweep CSV: the baseline '" + baseline + "' on scene " + scene_name +
+                                                 " was acquired with sampling plane " + b.sampling_plane +
+                                                 ", but the default is " + default_plane +
+                                                 ": measure the sweep again with the defaults");
   }
   using SceneClass = std::pair<FootprintClass, FabricKind>;
   std::map<SceneClass, int> base_scenes;
@@ -190,6 +206,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
           v.supersampling = std::stoul(m.supersampling);
           if (v.spatial_resolution == 0) axes += 2;  // alone it is not a setting the planner varies
         }
+        if (m.sampling_plane != b.sampling_plane) axes += 2;  // not a setting the planner varies
       }
       const bool same_as_before = by_class.empty() ||
                                   (v.method == variation.method && v.spatial_resolution == variation.spatial_resolution &&

@@ -28,8 +28,9 @@
 namespace loom::lab {
 
 // Error(kInvalidArgument) if the CSV has no GPU rows of `baseline`, or if they
-// were rendered otherwise than the default render settings (core/spec/defaults.h),
-// which the planner's figures describe.
+// were rendered otherwise than the default render settings or acquired on another
+// sampling plane than the default (core/spec/defaults.h), which the planner's figures
+// describe.
 std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::string& baseline = "default");
 
 // The variations as C++ initialisers for core/plan/standard_sweep_table.inc, after a

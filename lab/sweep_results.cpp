@@ -1,5 +1,7 @@
 #include "lab/sweep_results.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 
@@ -24,6 +26,12 @@ RenderColumns SweepRenderColumns(const v1::RenderSettings& render) {
   return {v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_")),
           v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_")),
           std::to_string(render.msaa_samples()), FormatLodBias(render.lod_bias())};
+}
+
+std::string SamplingPlaneColumn(v1::SamplingPlane plane) {
+  std::string name = v1::SamplingPlane_Name(plane).substr(std::strlen("SAMPLING_PLANE_"));
+  std::transform(name.begin(), name.end(), name.begin(), [](char c) { return c == '_' ? '-' : static_cast<char>(std::tolower(c)); });
+  return name;
 }
 
 SweepResults::SweepResults(std::filesystem::path path, std::vector<std::string> columns)

@@ -25,6 +25,11 @@ struct RenderColumns {
 };
 RenderColumns SweepRenderColumns(const v1::RenderSettings& render);
 
+// A row's sampling_plane column: "top" or "view-depth" (PrecomputeSettings.sampling_plane,
+// defaults applied). Sweeps from before the column had every view's texels on the top face.
+std::string SamplingPlaneColumn(v1::SamplingPlane plane);
+inline constexpr const char* kSamplingPlaneBeforeTheColumn = "top";
+
 class SweepResults {
  public:
   // `columns` must start with "configuration" and "scene", the row's key. An

@@ -164,7 +164,7 @@ struct TexelPass {
   const VertexIrradiance& indirect;  // light_count 0 without bounces
   uint32_t supersampling;
   uint64_t seed;
-  float top;                         // z of the sampling grid
+  float top;                         // z the rays start at
   size_t first_light, light_count;   // the batch of lights
 };
 
@@ -173,18 +173,61 @@ struct TexelScratch {
   std::vector<glm::vec3> sum, irradiance;
 };
 
+// Sub-sample (i, j) of `texel`'s s×s cells: a point of the tile's [0,1)² square.
+// The tile is a grid of (res·s)² cells with one jittered ray each, every cell's
+// jitter drawn from its own stream: 8 texels of 8×8 rays and 32 texels of 2×2 cast
+// the same rays, so a mip level pools the same samples whatever resolution it was
+// acquired at (fabric_fit.h), and the planner's resolution variations change the
+// finest level only. The same pattern for every view: a view's samples then differ
+// from the next view's only by the projection.
+glm::vec2 SubSample(uint32_t res, uint32_t s, uint64_t seed, size_t texel, uint32_t i, uint32_t j) {
+  const uint64_t side = uint64_t{res} * s;
+  const uint64_t cell_x = uint64_t{texel % res} * s + i, cell_y = uint64_t{texel / res} * s + j;
+  RandomStream random(seed, RandomStream::kTexelJitter, cell_y * side + cell_x);
+  const glm::vec2 cell(static_cast<float>(cell_x) + random.Uniform(), static_cast<float>(cell_y) + random.Uniform());
+  return cell / static_cast<float>(side);
+}
+
+// Where the ray of view `v` through `xy` on the plane z = `height` starts, on the
+// plane z = `top` above it (wrapped into the tile by PeriodicScene).
+glm::vec3 RayStart(glm::vec2 xy, float height, glm::vec3 v, float top) {
+  return {xy + glm::vec2(v) / v.z * (top - height), top};
+}
+
+// Per view, the mean z at which the rays of every texel's sub-samples, cast from the
+// top face, first meet yarn; `top` for a view none of whose rays does. Sums are per
+// texel, then over texels in order: the same for any thread count.
+std::vector<float> ViewDepthHeights(const PeriodicScene& scene, const RadianceSamples& samples, uint32_t s,
+                                    uint64_t seed, float top, unsigned threads, uint64_t& rays,
+                                    const std::function<void(double)>& progress) {
+  const size_t texels = samples.texel_count(), views = samples.view_count();
+  std::vector<glm::dvec2> sums(texels * views);  // (Σ z, hits) per texel and view
+  ParallelFor(texels, threads, [&](size_t texel, unsigned) {
+    for (size_t view = 0; view < views; ++view) {
+      const glm::vec3 v = samples.view_directions[view];
+      glm::dvec2& sum = sums[texel * views + view];
+      for (uint32_t j = 0; j < s; ++j) {
+        for (uint32_t i = 0; i < s; ++i) {
+          const auto hit = scene.Intersect({SubSample(samples.resolution, s, seed, texel, i, j), top}, -v);
+          if (hit) sum += glm::dvec2(hit->position.z, 1.0);
+        }
+      }
+    }
+  }, [&](size_t done) { progress(static_cast<double>(done) / static_cast<double>(texels)); });
+  rays += uint64_t{texels} * views * s * s;
+  std::vector<float> heights(views, top);
+  for (size_t view = 0; view < views; ++view) {
+    glm::dvec2 total(0.0);
+    for (size_t texel = 0; texel < texels; ++texel) total += sums[texel * views + view];
+    if (total.y > 0) heights[view] = static_cast<float>(total.x / total.y);
+  }
+  return heights;
+}
+
 // One texel, every view, the batch's lights; returns the texel's normal sum.
 glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t texel, TexelScratch& scratch,
                        uint64_t& rays, uint64_t& replaced) {
-  const uint32_t res = samples.resolution;
   const uint32_t s = pass.supersampling;
-  // The tile is a grid of (res·s)² cells with one jittered ray each, every cell's
-  // jitter drawn from its own stream: 8 texels of 8×8 rays and 32 texels of 2×2
-  // cast the same rays, so a mip level pools the same samples whatever resolution
-  // it was acquired at (fabric_fit.h), and the planner's resolution variations
-  // change the finest level only.
-  const uint32_t side = res * s;
-  const uint64_t cell_x0 = uint64_t{texel % res} * s, cell_y0 = uint64_t{texel / res} * s;
   const bool indirect = pass.indirect.light_count > 0;
   scratch.sum.resize(pass.light_count);
   scratch.irradiance.resize(pass.light_count);
@@ -192,16 +235,12 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
   for (size_t view = 0; view < samples.view_count(); ++view) {
     const glm::vec3 v = samples.view_directions[view];
     std::fill(scratch.sum.begin(), scratch.sum.end(), glm::vec3(0.0f));
-    // The same jittered pattern for every view: a view's samples then differ from
-    // the next view's only by the projection.
     uint32_t covered = 0;
-    for (uint64_t cell_y = cell_y0; cell_y < cell_y0 + s; ++cell_y) {
-      for (uint64_t cell_x = cell_x0; cell_x < cell_x0 + s; ++cell_x) {
-        RandomStream random(pass.seed, RandomStream::kTexelJitter, cell_y * side + cell_x);
-        const glm::vec2 cell(static_cast<float>(cell_x) + random.Uniform(), static_cast<float>(cell_y) + random.Uniform());
-        const glm::vec2 xy = cell / static_cast<float>(side);
+    for (uint32_t j = 0; j < s; ++j) {
+      for (uint32_t i = 0; i < s; ++i) {
+        const glm::vec2 xy = SubSample(samples.resolution, s, pass.seed, texel, i, j);
         ++rays;
-        const auto hit = pass.scene.Intersect({xy, pass.top}, -v);
+        const auto hit = pass.scene.Intersect(RayStart(xy, samples.view_heights[view], v, pass.top), -v);
         if (!hit) continue;
         ++covered;
         const SurfacePoint point = MakeSurfacePoint(pass.tile, *hit, -v);
@@ -256,7 +295,9 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   const double gather_rays = bounces > 0 ? double(vertices) * IndirectLight::kGatherStrata * IndirectLight::kGatherStrata : 0;
   auto vertex_rays = [&](size_t count) { return bounces > 0 ? double(vertices) * count : 0.0; };
   auto texel_rays = [&](size_t count) { return double(texels) * views * s * s * (1.0 + count); };
-  ProgressTracker tracker(progress, gather_rays + vertex_rays(lights) + texel_rays(lights) + (batches - 1) * texel_rays(0));
+  const bool view_depth = settings.sampling_plane() == v1::SAMPLING_PLANE_VIEW_DEPTH;
+  ProgressTracker tracker(progress, gather_rays + vertex_rays(lights) + texel_rays(lights) + (batches - 1) * texel_rays(0) +
+                                        (view_depth ? texel_rays(0) : 0.0));
 
   // The slab of geometry a ray crosses; the repeated scene covers the sideways
   // travel across it at the most grazing view (from the top face down) and the
@@ -267,6 +308,14 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   const float reach = depth * std::max(MaxTangent(samples.view_directions), MaxTangent(samples.light_directions));
   const PeriodicScene scene(tile.mesh, reach);
 
+  PerWorkerCount rays(threads), replaced(threads);
+  if (view_depth) {
+    tracker.Begin("sampling planes", texel_rays(0));
+    samples.view_heights = ViewDepthHeights(scene, samples, s, settings.seed(), top, threads, rays[0], tracker.Stage());
+  } else {
+    samples.view_heights.assign(views, top);
+  }
+
   std::vector<YarnBrdf> brdfs(tile.materials.begin(), tile.materials.end());
   std::optional<IndirectLight> indirect;
   if (bounces > 0) {
@@ -274,7 +323,6 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
     indirect.emplace(tile, scene, bounces, settings.seed(), threads, tracker.Stage());
   }
 
-  PerWorkerCount rays(threads), replaced(threads);
   std::vector<TexelScratch> scratch(threads);
   std::vector<glm::vec3> normal_sums(texels);
   for (size_t first = 0; first < lights; first += batch) {

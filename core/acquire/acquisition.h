@@ -5,9 +5,13 @@
 //
 // For each view v (HemisphereGridDirections(view_directions)), each texel's
 // s×s stratified sub-samples (s = supersampling, jittered from the seed, the same
-// pattern for every view) start on the tile's top face z = z_max + ε and are cast
-// along −v into the tile repeated over the plane (PeriodicScene), so holes show what
-// lies below and beside. Per (texel, view): alpha = covered sub-samples / s².
+// pattern for every view) are points of the view's sampling plane z = h(v), and the
+// rays through them along −v are cast from the top face z = z_max + ε into the
+// tile repeated over the plane (PeriodicScene), so holes show what lies below and
+// beside. h(v) is the top face itself (SAMPLING_PLANE_TOP) or the mean z at which
+// the view's rays from the top face first meet yarn (SAMPLING_PLANE_VIEW_DEPTH; a
+// first pass of primary rays, the same jittered pattern). Per (texel, view):
+// alpha = covered sub-samples / s².
 // Per texel: the hit normals of every view and sub-sample are summed and
 // normalised (the paper's AverageNormals); the tangent is the x axis made
 // perpendicular to that normal (the paper's binormal n × x, then tangent b × n).

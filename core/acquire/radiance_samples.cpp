@@ -28,7 +28,7 @@ static_assert(std::endian::native == std::endian::little, "the samples file is l
 static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "glm::vec3 must be three packed floats");
 
 constexpr char kMagic[8] = {'L', 'O', 'O', 'M', 'R', 'S', 'M', 'P'};
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 constexpr size_t kHeaderBytes = sizeof kMagic + 4 * sizeof(uint32_t);
 constexpr size_t kChecksumBytes = 64;  // SHA-256 as hex
 
@@ -77,6 +77,7 @@ RadianceSamples::RadianceSamples(uint32_t resolution, std::vector<glm::vec3> vie
     : resolution(resolution),
       view_directions(std::move(views)),
       light_directions(std::move(lights)),
+      view_heights(view_count(), 0.0f),
       normals(texel_count(), glm::vec3(0, 0, 1)),
       tangents(texel_count(), glm::vec3(1, 0, 0)),
       normal_lengths(texel_count(), 1.0f),
@@ -91,7 +92,7 @@ double RadianceSamples::MeanAlpha() const {
 std::string EncodeRadianceSamples(const RadianceSamples& s) {
   // A file whose arrays disagree with its dimensions could never be read back.
   const size_t texels = s.texel_count();
-  if (s.normals.size() != texels || s.tangents.size() != texels || s.normal_lengths.size() != texels ||
+  if (s.view_heights.size() != s.view_count() || s.normals.size() != texels || s.tangents.size() != texels || s.normal_lengths.size() != texels ||
       s.alpha.size() != texels * s.view_count() ||
       s.radiance.size() != texels * s.view_count() * s.light_count()) {
     throw Error(ErrorCode::kInvalidArgument, "radiance samples: array sizes do not match " +
@@ -106,6 +107,7 @@ std::string EncodeRadianceSamples(const RadianceSamples& s) {
   AppendU32(out, static_cast<uint32_t>(s.light_count()));
   Append(out, s.view_directions);
   Append(out, s.light_directions);
+  Append(out, s.view_heights);
   Append(out, s.normals);
   Append(out, s.tangents);
   Append(out, s.normal_lengths);
@@ -180,18 +182,19 @@ RadianceSamples DecodeRadianceSamples(std::string_view bytes, const std::string&
     throw fail("dimensions " + std::to_string(s.resolution) + "² texels × " + std::to_string(views) + " views × " +
                std::to_string(lights) + " lights are not k×k direction grids within the caps of core/spec/limits.h");
   }
-  const size_t floats = 3 * (views + lights) + 7 * texels + texels * views + 3 * texels * views * lights;
+  const size_t floats = 3 * (views + lights) + views + 7 * texels + texels * views + 3 * texels * views * lights;
   if (body.size() != kHeaderBytes + floats * sizeof(float)) {
     throw fail("size " + std::to_string(bytes.size()) + " bytes does not match its dimensions");
   }
   in.Fill(s.view_directions, views);
   in.Fill(s.light_directions, lights);
+  in.Fill(s.view_heights, views);
   in.Fill(s.normals, texels);
   in.Fill(s.tangents, texels);
   in.Fill(s.normal_lengths, texels);
   in.Fill(s.alpha, texels * views);
   in.Fill(s.radiance, texels * views * lights);
-  if (!(AllFinite(s.view_directions) && AllFinite(s.light_directions) && AllFinite(s.normals) &&
+  if (!(AllFinite(s.view_directions) && AllFinite(s.light_directions) && AllFinite(s.view_heights) && AllFinite(s.normals) &&
         AllFinite(s.tangents) && AllFinite(s.normal_lengths) && AllFinite(s.alpha) && AllFinite(s.radiance))) {
     throw fail("contains a non-finite number");
   }

@@ -17,16 +17,20 @@
 //                                              1 where every ray met yarn facing one
 //                                              way; with alpha it weights the texel's
 //                                              normal when a mip level averages them
+//   view_heights[view]                         tile z of the plane the view's texels
+//                                              are indexed on: texel (x, y) holds the
+//                                              view's rays that cross that plane
+//                                              inside it (PrecomputeSettings.sampling_plane)
 // Radiance is per unit irradiance of a directional light at normal incidence (the
 // convention of core/acquire/acquisition.h). Every value is finite.
 //
-// File (version 2), little-endian, no padding:
+// File (version 3), little-endian, no padding:
 //   offset 0   char[8]  magic "LOOMRSMP"
-//          8   u32      version (2)
+//          8   u32      version (3)
 //         12   u32      resolution
 //         16   u32      V (view count)
 //         20   u32      L (light count)
-//         24   f32      view_directions[V][3], light_directions[L][3],
+//         24   f32      view_directions[V][3], light_directions[L][3], view_heights[V],
 //                       normals[res²][3], tangents[res²][3], normal_lengths[res²],
 //                       alpha[res²][V], radiance[res²][V][L][3]
 //   end − 64   char[64] SHA-256 (lowercase hex) of every byte before it
@@ -47,6 +51,7 @@ struct RadianceSamples {
   uint32_t resolution = 0;
   std::vector<glm::vec3> view_directions;
   std::vector<glm::vec3> light_directions;
+  std::vector<float> view_heights;
   std::vector<glm::vec3> normals;
   std::vector<glm::vec3> tangents;
   std::vector<float> normal_lengths;
@@ -54,7 +59,8 @@ struct RadianceSamples {
   std::vector<glm::vec3> radiance;
 
   RadianceSamples() = default;
-  // Zero samples with the given directions; normals +z, tangents +x, lengths 1.
+  // Zero samples with the given directions; normals +z, tangents +x, lengths 1,
+  // every view indexed on the plane z = 0.
   RadianceSamples(uint32_t resolution, std::vector<glm::vec3> views, std::vector<glm::vec3> lights);
 
   size_t texel_count() const { return size_t{resolution} * resolution; }

@@ -158,7 +158,7 @@ void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& 
       {"settings", json::parse(SpecToJson(resolved, false))},
       {"lobes", fabric.lobes},
       {"lookup_table", fabric.lookup_table},
-      {"sampling_height", fabric.sampling_height},
+      {"view_heights", fabric.view_heights},
       {"half_float", half},
       {"resolution", fabric.levels.front().resolution},
       {"view_directions", fabric.view_directions.size()},
@@ -201,10 +201,10 @@ FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
                     invalid);
     fabric.lobes = static_cast<uint32_t>(lobes);
     fabric.lookup_table = manifest.at("lookup_table");
-    fabric.sampling_height = manifest.at("sampling_height");
     fabric.seconds = manifest.at("fit_seconds");
     fabric.view_directions = HemisphereGridDirections(static_cast<uint32_t>(view_count));
     const size_t views = fabric.view_directions.size();
+    fabric.view_heights = ManifestViewHeights(manifest, views, invalid);
     const int k = static_cast<int>(HemisphereGridSide(static_cast<uint32_t>(views)));
     const int side = manifest.at("levels")[0].at("resolution").get<int>();
     const json& files = manifest.at("files");

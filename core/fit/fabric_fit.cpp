@@ -220,6 +220,7 @@ FittedFabric FitFabric(const RadianceSamples& samples, const v1::PrecomputeSetti
   fabric.lobes = options.lobes;
   fabric.lookup_table = options.lookup_table;
   fabric.view_directions = samples.view_directions;
+  fabric.view_heights = samples.view_heights;
   const uint32_t level_count = LevelCount(samples.resolution, resolved.mip_levels());
   fabric.levels.push_back(FinestLevel(samples));
   std::vector<glm::dvec3> normal_sums = HitNormalSums(samples);

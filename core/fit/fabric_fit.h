@@ -87,10 +87,10 @@ struct FittedFabric {
   std::vector<glm::vec3> view_directions;  // the LUT's directions, HemisphereGridDirections order
   std::vector<FittedLevel> levels;         // levels[0] is the finest
   double seconds = 0.0;                    // wall time of FitFabric
-  // Tile z of the face the texels were sampled on (acquisition's top face,
-  // tile.z_max): a renderer looks texels up where the view ray crosses it, not
-  // where it meets the macro surface (tile z = 0). Set by PrecomputeFabric.
-  float sampling_height = 0.0f;
+  // Per view, the tile z of the plane its texels were sampled on
+  // (RadianceSamples::view_heights): a renderer looks texels up where the view ray
+  // crosses it, not where it meets the macro surface (tile z = 0).
+  std::vector<float> view_heights;
 };
 
 // fraction in [0, 1], non-decreasing (each level's share is its share of the

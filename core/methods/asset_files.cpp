@@ -195,7 +195,7 @@ json TableManifest(std::string_view method, uint32_t version, const std::string&
           {"asset_version", version},
           {"fabric_key", fabric_key},
           {"settings", json::parse(SpecToJson(resolved, false))},
-          {"sampling_height", header.sampling_height},
+          {"view_heights", header.view_heights},
           {"half_float", resolved.half_float()},
           {"resolution", header.resolution},
           {"view_directions", header.views},
@@ -214,10 +214,24 @@ TableAssetHeader CheckTableManifest(const json& manifest, std::string_view metho
   TableAssetHeader header;
   header.views = ManifestDirectionCount(manifest, "view_directions", invalid);
   header.lights = ManifestDirectionCount(manifest, "light_directions", invalid);
-  header.sampling_height = manifest.at("sampling_height");
+  header.view_heights = ManifestViewHeights(manifest, header.views, invalid);
   header.build_seconds = manifest.at("build_seconds");
-  if (!std::isfinite(header.sampling_height)) throw invalid("sampling_height is not finite");
   return header;
+}
+
+std::vector<float> ManifestViewHeights(const json& manifest, size_t views,
+                                       const std::function<Error(const std::string&)>& invalid) {
+  const json& heights = manifest.at("view_heights");
+  if (!heights.is_array() || heights.size() != views) {
+    throw invalid("view_heights is not an array of " + std::to_string(views) + " numbers, one per view");
+  }
+  std::vector<float> result;
+  for (const json& height : heights) {
+    const double value = height.get<double>();
+    if (!std::isfinite(value) || std::abs(value) > 1e6) throw invalid("a view height is not a finite tile z");
+    result.push_back(static_cast<float>(value));
+  }
+  return result;
 }
 
 json FileEntry(const std::filesystem::path& path, const std::string& sha256) {

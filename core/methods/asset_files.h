@@ -98,9 +98,14 @@ void CheckLevelChain(const nlohmann::json& levels, uint64_t values_per_texel, ui
 struct TableAssetHeader {
   uint32_t views = 0, lights = 0;  // direction counts, k×k grids
   uint32_t resolution = 0;         // level 0's texels a side
-  float sampling_height = 0.0f;
+  std::vector<float> view_heights;  // RadianceSamples::view_heights
   double build_seconds = 0.0;
 };
+
+// The manifest's "view_heights" (RadianceSamples::view_heights): `views` finite
+// numbers, else invalid(what) is thrown.
+std::vector<float> ManifestViewHeights(const nlohmann::json& manifest, size_t views,
+                                       const std::function<Error(const std::string&)>& invalid);
 
 // Such a manifest: method, asset_version, fabric_key, settings (`resolved`, defaults
 // applied), half_float, the header's fields and `levels`; the caller adds "files" and
@@ -109,7 +114,7 @@ nlohmann::json TableManifest(std::string_view method, uint32_t version, const st
                              const v1::PrecomputeSettings& resolved, const TableAssetHeader& header,
                              const nlohmann::json& levels);
 
-// Checks such a manifest's method, version, direction counts and sampling height
+// Checks such a manifest's method, version, direction counts and view heights
 // (invalid(what) otherwise) and returns its header.
 TableAssetHeader CheckTableManifest(const nlohmann::json& manifest, std::string_view method, uint32_t version,
                                     const std::function<Error(const std::string&)>& invalid);

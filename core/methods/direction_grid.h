@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/acquire/hemisphere_directions.h"
 
@@ -44,6 +45,19 @@ T Bilinear(const GridPoint& point, uint32_t side, const Value& value) {
   const T bottom = glm::mix(at(point.lower.x, point.lower.y), at(point.upper.x, point.lower.y), point.weight.x);
   const T top = glm::mix(at(point.lower.x, point.upper.y), at(point.upper.x, point.upper.y), point.weight.x);
   return glm::mix(bottom, top, point.weight.y);
+}
+
+// Where a ray from `direction` (unit, tile frame) meets the fabric whose macro
+// surface it crosses at tile coordinate `surface`: on the plane of the texels'
+// sampling height for that direction, the stored views' heights
+// (RadianceSamples::view_heights) interpolated like the view atlas; the slope is
+// capped near grazing, where the plane is seen edge-on. fabric_surface.glsl's
+// FabricTile is its twin.
+inline glm::vec2 FabricTileAt(glm::vec2 surface, glm::vec3 direction, const std::vector<float>& view_heights) {
+  const uint32_t side = GridSide(view_heights.size());
+  const float height =
+      Bilinear<float>(LocateOnGrid(direction, side), side, [&](size_t view) { return view_heights[view]; });
+  return surface + glm::vec2(direction) / std::max(direction.z, 0.1f) * height;
 }
 
 // A light's weight: 0 below the horizon, fading from 1 at the outermost stored ring

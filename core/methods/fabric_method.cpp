@@ -21,14 +21,30 @@ std::array<const FabricMethod*, 4> Methods() {
 
 }  // namespace
 
-void FabricSurface::Set(const gl::ShaderProgram& program, int views_unit, glm::vec2 repeat) const {
-  program.Set("u_fabric_views", views_unit);
-  program.Set("u_fabric_levels", levels);
-  program.Set("u_fabric_resolution", resolution);
-  program.Set("u_fabric_view_side", view_side);
-  program.Set("u_fabric_light_side", light_side);
+FabricSurface::FabricSurface(int levels, int resolution, int view_side, int light_side,
+                             const std::vector<float>& view_heights)
+    : levels_(levels),
+      resolution_(resolution),
+      view_side_(view_side),
+      light_side_(light_side),
+      heights_(1, view_side, 1, /*half=*/false) {
+  if (view_side <= 0 || view_heights.size() != static_cast<size_t>(view_side) * static_cast<size_t>(view_side)) {
+    throw Error(ErrorCode::kInvalidArgument, "fabric surface: " + std::to_string(view_heights.size()) +
+                                                 " view heights for a " + std::to_string(view_side) + "² view grid");
+  }
+  heights_.Upload(0, view_heights.data());
+}
+
+void FabricSurface::Bind(const gl::ShaderProgram& program, GLuint views, int first_unit, glm::vec2 repeat) const {
+  glBindTextureUnit(static_cast<GLuint>(first_unit), views);
+  glBindTextureUnit(static_cast<GLuint>(first_unit + 1), heights_.id());
+  program.Set("u_fabric_views", first_unit);
+  program.Set("u_fabric_view_heights", first_unit + 1);
+  program.Set("u_fabric_levels", levels_);
+  program.Set("u_fabric_resolution", resolution_);
+  program.Set("u_fabric_view_side", view_side_);
+  program.Set("u_fabric_light_side", light_side_);
   program.Set("u_fabric_repeat", repeat);
-  program.Set("u_fabric_sampling_height", sampling_height);
 }
 
 const FabricMethod& MethodOf(v1::FabricMethod id) {

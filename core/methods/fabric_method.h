@@ -20,22 +20,36 @@
 
 #include "core/acquire/radiance_samples.h"
 #include "core/gl/shader_program.h"
+#include "core/methods/level_texture.h"
 #include "loom/v1/precompute.pb.h"
 
 namespace loom {
 
 class FabricMethod;
 
-// What fabric_surface.glsl needs of any method's asset on the GPU.
-struct FabricSurface {
-  int levels = 0;
-  int resolution = 0;         // level-0 texels per tile side
-  int view_side = 0;          // the view atlas's k
-  int light_side = 0;         // k_l of a method with light tables (LOOM_FABRIC_LIGHT_GRID), else 0
-  float sampling_height = 0;  // tile z of the face the texels were sampled on
+// What fabric_surface.glsl needs of any method's asset on the GPU: the view atlas's
+// dimensions and each view's sampling height (RadianceSamples::view_heights, a k×k
+// texture).
+class FabricSurface {
+ public:
+  // levels, level-0 texels per tile side, the view atlas's k, k_l of a method with
+  // light tables (LOOM_FABRIC_LIGHT_GRID) or 0, and k² view heights.
+  FabricSurface(int levels, int resolution, int view_side, int light_side, const std::vector<float>& view_heights);
 
-  // Sets the surface's uniforms, the repeat and the view atlas's unit on `program`.
-  void Set(const gl::ShaderProgram& program, int views_unit, glm::vec2 repeat) const;
+  int levels() const { return levels_; }
+  int resolution() const { return resolution_; }
+  int view_side() const { return view_side_; }
+  int light_side() const { return light_side_; }
+
+  // Binds the view atlas `views` to `first_unit` and the view heights to the next
+  // unit, and sets the surface's uniforms and the repeat on `program`. A method's own
+  // textures take the units from first_unit + kUnits on.
+  void Bind(const gl::ShaderProgram& program, GLuint views, int first_unit, glm::vec2 repeat) const;
+  static constexpr int kUnits = 2;
+
+ private:
+  int levels_, resolution_, view_side_, light_side_;
+  LevelTexture heights_;
 };
 
 // A fabric asset in GPU memory, bound for the draws of one cloth object.
@@ -95,9 +109,8 @@ class FabricMethod {
     static_cast<void>(settings);
     return {};
   }
-  // `settings` with defaults applied and validated; `sampling_height` is the tile z
-  // of the face the texels were sampled on (acquisition's top face).
-  virtual std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+  // `settings` with defaults applied and validated.
+  virtual std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples,
                                              const v1::PrecomputeSettings& settings,
                                              const BuildProgress& progress) const = 0;
   // Error(kNotFound) if a file is missing, Error(kInvalidArgument) if one is

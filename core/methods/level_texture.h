@@ -11,7 +11,8 @@ namespace loom {
 
 class LevelTexture {
  public:
-  // layers = 0: a 2-D texture; otherwise a 2-D array of that many layers.
+  // channels 1, 3 or 4; layers = 0: a 2-D texture; otherwise a 2-D array of that
+  // many layers.
   LevelTexture(int levels, int side0, int channels, bool half, int layers = 0);
   ~LevelTexture();
   LevelTexture(const LevelTexture&) = delete;

@@ -42,7 +42,7 @@ std::unique_ptr<FabricAsset> PrecomputeAsset(const v1::FabricSpec& fabric, const
   const FabricMethod& method = MethodOf(full.method());
   const std::string stage = std::string(method.name()) + ": ";
   std::unique_ptr<FabricAsset> asset =
-      method.Build(samples, tile.z_max, full, [&report, &stage](double f, std::string_view step) {
+      method.Build(samples, full, [&report, &stage](double f, std::string_view step) {
         report(kAcquireShare + (1.0 - kAcquireShare) * f, stage + std::string(step));
       });
   report(1.0, "done");

@@ -12,6 +12,7 @@ void FabricTextureData::Allocate(uint32_t resolution_, uint32_t lobes_, uint32_t
   resolution = resolution_;
   lobes = lobes_;
   view_side = view_side_;
+  view_heights.assign(size_t{view_side} * view_side, 0.0f);
   params.assign(levels, {});
   lut.assign(levels, {});
   for (uint32_t level = 0; level < levels; ++level) {
@@ -29,7 +30,7 @@ FabricTextureData FabricTextureData::FromFit(const FittedFabric& fit) {
     throw Error(ErrorCode::kInvalidArgument, "fitted fabric: no levels, or a view count that is not k²");
   }
   data.Allocate(fit.levels[0].resolution, fit.lobes, view_side, static_cast<uint32_t>(fit.levels.size()));
-  data.sampling_height = fit.sampling_height;
+  data.view_heights = fit.view_heights;
   for (uint32_t level = 0; level < data.levels(); ++level) {
     const FittedLevel& fitted = fit.levels[level];
     if (fitted.resolution != data.LevelResolution(level)) {
@@ -64,7 +65,8 @@ FabricTextures::FabricTextures(const FabricTextureData& data, bool half)
       lobes_(data.lobes),
       view_side_(data.view_side),
       levels_(data.levels()),
-      sampling_height_(data.sampling_height) {
+      surface_(static_cast<int>(levels_), static_cast<int>(resolution_), static_cast<int>(view_side_), 0,
+               data.view_heights) {
   if (levels_ == 0 || resolution_ == 0 || view_side_ == 0 || (resolution_ >> (levels_ - 1)) == 0) {
     throw Error(ErrorCode::kInvalidArgument, "fabric textures: empty or inconsistent levels");
   }
@@ -105,12 +107,9 @@ FabricTextures::~FabricTextures() {
 const FabricMethod& FabricTextures::method() const { return SvbrdfMethod(); }
 
 void FabricTextures::Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const {
-  glBindTextureUnit(static_cast<GLuint>(first_unit), lut_);
-  glBindTextureUnit(static_cast<GLuint>(first_unit + 1), params_);
-  const FabricSurface surface{static_cast<int>(levels_), static_cast<int>(resolution_), static_cast<int>(view_side_),
-                              0, sampling_height_};
-  surface.Set(program, first_unit, repeat);
-  program.Set("u_fabric_params", first_unit + 1);
+  surface_.Bind(program, lut_, first_unit, repeat);
+  glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), params_);
+  program.Set("u_fabric_params", first_unit + FabricSurface::kUnits);
   program.Set("u_fabric_lobes", static_cast<int>(lobes_));
 }
 

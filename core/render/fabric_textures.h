@@ -36,7 +36,7 @@ struct FabricTextureData {
   uint32_t resolution = 0;  // level-0 texels per tile side (a power of two)
   uint32_t lobes = 0;       // lobes evaluated (≤ 3)
   uint32_t view_side = 0;   // k
-  float sampling_height = 0.0f;  // FittedFabric::sampling_height
+  std::vector<float> view_heights;  // FittedFabric::view_heights (k²)
   // Per level ℓ: kFabricParamLayers layers of r_ℓ² texels, layer-major, rows
   // bottom-up in tile y (texel (x, y) at [layer][y·r_ℓ + x]).
   std::vector<std::vector<glm::vec4>> params;
@@ -53,7 +53,7 @@ struct FabricTextureData {
     const uint32_t row = LevelResolution(level) * view_side;
     return lut[level][size_t{y * view_side + view / view_side} * row + x * view_side + view % view_side];
   }
-  // Zeroed storage for `levels` levels.
+  // Zeroed storage for `levels` levels (view heights 0: the macro surface).
   void Allocate(uint32_t resolution, uint32_t lobes, uint32_t view_side, uint32_t levels);
 
   // The layout above, filled from a fit.
@@ -70,14 +70,15 @@ class FabricTextures final : public GpuFabric {
   FabricTextures& operator=(const FabricTextures&) = delete;
 
   const FabricMethod& method() const override;
-  // The LUT (the view atlas) at `first_unit`, the parameters at `first_unit + 1`.
+  // The LUT (the view atlas) at `first_unit`, the view heights next, the parameters
+  // at `first_unit + FabricSurface::kUnits`.
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override;
 
  private:
   GLuint params_ = 0;
   GLuint lut_ = 0;
   uint32_t resolution_, lobes_, view_side_, levels_;
-  float sampling_height_;
+  FabricSurface surface_;
 };
 
 }  // namespace loom

@@ -49,10 +49,10 @@ vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitange
                  vec3 ambient) {
   mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
   vec3 view = to_surface * towards_viewer;
-  vec2 tile = FabricTile(uv, view);
-  // The footprint comes first: derivatives are undefined inside the loop.
-  FabricFootprint f = FabricLevels(tile);
   FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
+  vec2 tile = FabricTileOnGrid(uv, view, fragment.view_grid);
+  // The footprint before the shading loop: derivatives are undefined inside it.
+  FabricFootprint f = FabricLevels(tile);
 #ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {

@@ -17,7 +17,7 @@ uniform int u_fabric_levels;
 uniform int u_fabric_resolution;         // level-0 texels per tile side
 uniform int u_fabric_view_side;          // k: the view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
-uniform float u_fabric_sampling_height;  // tile z of the face the texels were sampled on
+uniform sampler2D u_fabric_view_heights; // k×k: each stored view's sampling height, tile z
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
 uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
 #ifdef LOOM_FABRIC_LIGHT_GRID
@@ -164,13 +164,30 @@ FabricFootprint FabricLevels(vec2 tile) {
 }
 
 // The tile coordinate where a ray from `direction` (unit, surface frame) meets the
-// fabric at mesh uv `uv`. Acquisition sampled texels on the tile's top face, above
-// the macro surface (tile z = 0) by the sampling height: look the texel up where the
-// ray crosses that face, as the reference's shell does. Tile units are isotropic
-// (x, y and z scale alike), so the offset is the direction's slope times the
-// height; the slope is capped near grazing, where the face is seen edge-on.
+// fabric at mesh uv `uv`. Acquisition sampled each view's texels on a plane above
+// the macro surface (tile z = 0) by that view's sampling height
+// (RadianceSamples::view_heights): look the texel up where the ray crosses the
+// plane, its height interpolated between the stored views as the view atlas is.
+// Tile units are isotropic (x, y and z scale alike), so the offset is the
+// direction's slope times the height; the slope is capped near grazing, where the
+// plane is seen edge-on. `grid` is the direction's place in the view grid
+// (LocateFabricView). The C++ twin: FabricTileAt (core/methods/direction_grid.h).
+vec2 FabricTileOnGrid(vec2 uv, vec3 direction, vec2 grid) {
+  ivec2 lower = ivec2(floor(grid));
+  ivec2 upper = min(lower + 1, ivec2(u_fabric_view_side - 1));
+  vec2 w = grid - vec2(lower);
+  float bottom = mix(texelFetch(u_fabric_view_heights, lower, 0).r,
+                     texelFetch(u_fabric_view_heights, ivec2(upper.x, lower.y), 0).r, w.x);
+  float top = mix(texelFetch(u_fabric_view_heights, ivec2(lower.x, upper.y), 0).r,
+                  texelFetch(u_fabric_view_heights, upper, 0).r, w.x);
+  return uv * u_fabric_repeat + direction.xy / max(direction.z, 0.1) * mix(bottom, top, w.y);
+}
+
 vec2 FabricTile(vec2 uv, vec3 direction) {
-  return uv * u_fabric_repeat + direction.xy / max(direction.z, 0.1) * u_fabric_sampling_height;
+  vec2 grid;
+  float beyond_ring;
+  LocateFabricView(direction, grid, beyond_ring);
+  return FabricTileOnGrid(uv, direction, grid);
 }
 
 // The fraction of the light arriving from `towards_light` (unit, surface frame)

@@ -175,6 +175,13 @@ v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
   if (settings.supersampling() == 0) settings.set_supersampling(kDefaultSupersampling);
   if (!settings.has_half_float()) settings.set_half_float(true);
   if (settings.method() == v1::FABRIC_METHOD_UNSPECIFIED) settings.set_method(v1::FABRIC_METHOD_SVBRDF);
+  // The table methods render the stored views themselves, blended with the parallax
+  // of whatever lies off the plane: on a plane at the depth each view sees, the least
+  // (docs/accuracy.md). svbrdf's planner figures were measured on the top face.
+  if (settings.sampling_plane() == v1::SAMPLING_PLANE_UNSPECIFIED) {
+    settings.set_sampling_plane(IsTableMethod(settings.method()) ? v1::SAMPLING_PLANE_VIEW_DEPTH
+                                                                 : v1::SAMPLING_PLANE_TOP);
+  }
   // Only a method's own settings get its defaults: the others' keys and manifests
   // stay as they were before it.
   if (settings.method() == v1::FABRIC_METHOD_FACTORED && settings.factored().rank() == 0) {

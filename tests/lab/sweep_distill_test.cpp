@@ -79,22 +79,25 @@ TEST(SweepDistill, MeansPerFootprintClassAgainstTheBaselineOnTheSameScenes) {
 }
 
 // A row of another fabric method: `own` its method_settings column.
+// A row of a sweep with the method_settings and sampling_plane columns (the table
+// methods' default plane is view-depth, svbrdf's the top face).
 std::vector<std::string> MethodRow(const std::string& configuration, const std::string& scene, double footprint,
                                    double psnr, double seconds, double bytes, const std::string& method,
-                                   const std::string& own, std::vector<std::string> settings) {
+                                   const std::string& own, std::vector<std::string> settings,
+                                   const std::string& plane = "view-depth") {
   std::vector<std::string> row = Row(configuration, scene, footprint, psnr, seconds, bytes, std::move(settings));
   row[2] = method;
   row.push_back(own);
+  row.push_back(plane);
   return row;
 }
 
 TEST(SweepDistill, TakesAnotherMethodAtItsDefaultsAsAVariationAndNoOtherConfigurationOfIt) {
   CsvTable table = Table({});
   table.columns.push_back("method_settings");
+  table.columns.push_back("sampling_plane");
   const auto base = [](const std::string& scene, double footprint, double psnr) {
-    std::vector<std::string> row = Row("default", scene, footprint, psnr, 10, 100, kDefault);
-    row.push_back("");
-    return row;
+    return MethodRow("default", scene, footprint, psnr, 10, 100, "svbrdf", "", kDefault, "top");
   };
   const std::vector<std::string> table81 = {"32", "81", "64", "2", "1", "2"};
   table.rows = {
@@ -107,6 +110,11 @@ TEST(SweepDistill, TakesAnotherMethodAtItsDefaultsAsAVariationAndNoOtherConfigur
       MethodRow("factored-rank8", "b", 60, 23, 1, 1400, "factored", R"({"rank":8})", table81),
       MethodRow("factored-views64", "a", 64, 21, 1, 600, "factored", R"({"rank":4})", kDefault),
       MethodRow("factored-views64", "b", 60, 21, 1, 600, "factored", R"({"rank":4})", kDefault),
+      MethodRow("factored-top", "a", 64, 21, 1, 700, "factored", R"({"rank":4})", table81, "top"),
+      MethodRow("factored-top", "b", 60, 21, 1, 700, "factored", R"({"rank":4})", table81, "top"),
+      // svbrdf on another sampling plane: not a setting the planner varies.
+      MethodRow("viewdepth", "a", 64, 22, 10, 100, "svbrdf", "", kDefault),
+      MethodRow("viewdepth", "b", 60, 23, 10, 100, "svbrdf", "", kDefault),
   };
   const std::vector<MeasuredVariation> variations = DistillSweep(table);
   ASSERT_EQ(variations.size(), 1u);
@@ -210,6 +218,25 @@ TEST(SweepDistill, RejectsAnUnknownFabricKindNamingIt) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("fabric_kind 'silk'"), std::string::npos);
+  }
+}
+
+// So is one whose baseline was acquired on another sampling plane than the default's.
+TEST(SweepDistill, RefusesABaselineNotAcquiredOnTheDefaultSamplingPlane) {
+  CsvTable table = Table({});
+  table.columns.push_back("method_settings");
+  table.columns.push_back("sampling_plane");
+  table.rows = {MethodRow("default", "a", 64, 20, 10, 100, "svbrdf", "", kDefault, "top"),
+                MethodRow("lobes1", "a", 64, 19, 5, 90, "svbrdf", "", kLobes1, "top")};
+  EXPECT_NO_THROW(DistillSweep(table));
+  table.rows[0].back() = "view-depth";
+  table.rows[1].back() = "view-depth";
+  try {
+    DistillSweep(table);
+    FAIL() << "a view-depth baseline was distilled";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("sampling plane view-depth, but the default is top"), std::string::npos)
+        << e.what();
   }
 }
 

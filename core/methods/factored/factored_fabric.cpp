@@ -97,7 +97,7 @@ FactoredFabric FactorFabric(const TabulatedFabric& table, uint32_t rank, unsigne
       rank, static_cast<uint32_t>(std::min(table.view_count(), table.light_count())));
   fabric.view_directions = table.view_directions;
   fabric.light_directions = table.light_directions;
-  fabric.sampling_height = table.sampling_height;
+  fabric.view_heights = table.view_heights;
   for (size_t j = 0; j < table.levels.size(); ++j) {
     fabric.levels.push_back(
         FactorLevel(table.levels[j], fabric.rank, table.view_count(), table.light_count(), threads));

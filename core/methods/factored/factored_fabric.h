@@ -34,7 +34,7 @@ struct FactoredFabric {
   std::vector<glm::vec3> view_directions;
   std::vector<glm::vec3> light_directions;
   std::vector<FactoredLevel> levels;  // levels[0] is the finest
-  float sampling_height = 0.0f;
+  std::vector<float> view_heights;  // RadianceSamples::view_heights
   double seconds = 0.0;  // wall time of FactorFabric
 
   size_t view_count() const { return view_directions.size(); }

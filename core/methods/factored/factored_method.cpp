@@ -28,7 +28,7 @@ constexpr const char* kLightTermsFile = "light_terms.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout.
-constexpr uint32_t kFactoredFormatVersion = 1;
+constexpr uint32_t kFactoredFormatVersion = 2;
 
 // The terms of one level over one grid (`count` stored directions), layer-major:
 // layer k is term k's direction atlas, RGB floats. `terms` is [(texel·K + k)·count + d].
@@ -96,12 +96,12 @@ class FactoredTextures final : public GpuFabric {
   FactoredTextures(const FactoredFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
                  static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
-                 fabric.sampling_height},
+                 fabric.view_heights},
         rank_(static_cast<int>(fabric.rank)),
-        views_(surface_.levels, surface_.resolution * surface_.view_side, 4, half),
-        view_terms_(surface_.levels, surface_.resolution * surface_.view_side, 3, half, rank_),
-        light_terms_(surface_.levels, surface_.resolution * surface_.light_side, 3, half, rank_) {
-    for (int level = 0; level < surface_.levels; ++level) {
+        views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
+        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 3, half, rank_),
+        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 3, half, rank_) {
+    for (int level = 0; level < surface_.levels(); ++level) {
       const FactoredLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
       const auto a = TermLayers(data.view_terms, fabric.rank, data.resolution, fabric.view_count());
@@ -116,12 +116,11 @@ class FactoredTextures final : public GpuFabric {
   const FabricMethod& method() const override { return FactoredMethod(); }
 
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
-    glBindTextureUnit(static_cast<GLuint>(first_unit), views_.id());
-    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), view_terms_.id());
-    glBindTextureUnit(static_cast<GLuint>(first_unit + 2), light_terms_.id());
-    surface_.Set(program, first_unit, repeat);
-    program.Set("u_fabric_view_terms", first_unit + 1);
-    program.Set("u_fabric_light_terms", first_unit + 2);
+    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), view_terms_.id());
+    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits + 1), light_terms_.id());
+    surface_.Bind(program, views_.id(), first_unit, repeat);
+    program.Set("u_fabric_view_terms", first_unit + FabricSurface::kUnits);
+    program.Set("u_fabric_light_terms", first_unit + FabricSurface::kUnits + 1);
   }
 
   std::string ShaderDefines() const override { return "#define LOOM_FACTORED_RANK " + std::to_string(rank_) + "\n"; }
@@ -151,7 +150,7 @@ FactoredFabric ReadFactored(const std::filesystem::path& directory) {
                     kMaxRadianceSamples / kMinDirections, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(lights);
-    fabric.sampling_height = header.sampling_height;
+    fabric.view_heights = header.view_heights;
     fabric.seconds = header.build_seconds;
     std::vector<int> view_sides, light_sides;
     for (const json& entry : manifest.at("levels")) {
@@ -200,12 +199,12 @@ class Factored final : public FabricMethod {
     return SpecToJson(settings.factored(), false);
   }
 
-  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples,
                                      const v1::PrecomputeSettings& settings,
                                      const BuildProgress& progress) const override {
     if (progress) progress(0.0, "tabulate");
     const TabulatedFabric table =
-        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE, sampling_height);
+        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE);
     FactoredFabric fabric = FactorFabric(table, settings.factored().rank(), 0, [&progress](double fraction) {
       if (progress) progress(fraction, "factor");
     });
@@ -237,7 +236,7 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
       WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
-                                fabric_.sampling_height, fabric_.seconds};
+                                fabric_.view_heights, fabric_.seconds};
   json manifest = TableManifest("factored", kFactoredFormatVersion, fabric_key, resolved, header,
                                 Figures().at("levels"));
   manifest["rank"] = fabric_.rank;

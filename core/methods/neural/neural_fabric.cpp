@@ -204,7 +204,7 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   fabric.steps = training.steps;
   fabric.view_directions = table.view_directions;
   fabric.light_directions = table.light_directions;
-  fabric.sampling_height = table.sampling_height;
+  fabric.view_heights = table.view_heights;
 
   // One parameter vector: the decoder, then each level's latents.
   const size_t decoder_count = NeuralDecoder::ParameterCount(channels, training.hidden, training.frequencies);

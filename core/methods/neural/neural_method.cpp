@@ -29,7 +29,7 @@ constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout; 2: every level drawn equally often in training; 3: the
 // view atlas's RGB is the per-view gain A (radiance A/π ⊙ f).
-constexpr uint32_t kNeuralFormatVersion = 3;
+constexpr uint32_t kNeuralFormatVersion = 4;
 // The uniform buffer binding of the decoder's parameters.
 constexpr GLuint kDecoderBinding = 0;
 
@@ -53,16 +53,16 @@ class NeuralTextures final : public GpuFabric {
   NeuralTextures(const NeuralFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
                  static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
-                 fabric.sampling_height},
+                 fabric.view_heights},
         channels_(fabric.decoder.channels),
         hidden_(fabric.decoder.hidden),
         frequencies_(fabric.decoder.frequencies),
-        views_(surface_.levels, surface_.resolution * surface_.view_side, 4, half),
-        latents_(surface_.levels, surface_.resolution, 4, half, static_cast<int>(channels_ / 4)) {
+        views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
+        latents_(surface_.levels(), surface_.resolution(), 4, half, static_cast<int>(channels_ / 4)) {
     // The latents repeat with the tile: the filter blends texels across its edges.
     glTextureParameteri(latents_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(latents_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    for (int level = 0; level < surface_.levels; ++level) {
+    for (int level = 0; level < surface_.levels(); ++level) {
       const NeuralLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
       for (uint32_t layer = 0; layer < channels_ / 4; ++layer) {
@@ -90,10 +90,9 @@ class NeuralTextures final : public GpuFabric {
   const FabricMethod& method() const override { return NeuralMethod(); }
 
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
-    glBindTextureUnit(static_cast<GLuint>(first_unit), views_.id());
-    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), latents_.id());
-    surface_.Set(program, first_unit, repeat);
-    program.Set("u_fabric_latents", first_unit + 1);
+    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), latents_.id());
+    surface_.Bind(program, views_.id(), first_unit, repeat);
+    program.Set("u_fabric_latents", first_unit + FabricSurface::kUnits);
     // The shadow pass reads coverage alone and has no decoder block.
     const GLuint block = glGetUniformBlockIndex(program.id(), "NeuralDecoder");
     if (block != GL_INVALID_INDEX) {
@@ -157,7 +156,7 @@ NeuralFabric ReadNeural(const std::filesystem::path& directory) {
                     kMaxRadianceSamples / kMinDirections, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(header.lights);
-    fabric.sampling_height = header.sampling_height;
+    fabric.view_heights = header.view_heights;
     fabric.seconds = header.build_seconds;
     std::vector<int> sides, view_sides;
     for (const json& entry : manifest.at("levels")) {
@@ -202,12 +201,12 @@ class Neural final : public FabricMethod {
     return SpecToJson(settings.neural(), false);
   }
 
-  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples,
                                      const v1::PrecomputeSettings& settings,
                                      const BuildProgress& progress) const override {
     if (progress) progress(0.0, "tabulate");
     const TabulatedFabric table =
-        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE, sampling_height);
+        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE);
     const v1::NeuralSettings& neural = settings.neural();
     const NeuralTraining training{neural.channels(), neural.hidden(), neural.frequencies(), neural.steps(),
                                   settings.seed()};
@@ -243,7 +242,7 @@ void NeuralAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
       WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
-                                fabric_.sampling_height, fabric_.seconds};
+                                fabric_.view_heights, fabric_.seconds};
   json manifest =
       TableManifest("neural", kNeuralFormatVersion, fabric_key, resolved, header, Figures().at("levels"));
   manifest["decoder"] = {{"channels", channels},

@@ -23,12 +23,10 @@ class Svbrdf final : public FabricMethod {
     return settings;
   }
 
-  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples,
                                      const v1::PrecomputeSettings& settings,
                                      const BuildProgress& progress) const override {
-    FittedFabric fit = FitFabric(samples, settings, progress);
-    fit.sampling_height = sampling_height;
-    return std::make_unique<SvbrdfAsset>(std::move(fit));
+    return std::make_unique<SvbrdfAsset>(FitFabric(samples, settings, progress));
   }
 
   std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {

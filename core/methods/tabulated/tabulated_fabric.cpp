@@ -81,7 +81,7 @@ void ComputeAmbient(TabulatedLevel& level, size_t views, size_t lights) {
 
 }  // namespace
 
-TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels, float sampling_height) {
+TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels) {
   const Stopwatch stopwatch;
   if (mip_levels && !std::has_single_bit(samples.resolution)) {
     throw Error(ErrorCode::kInvalidArgument, "tabulated levels: resolution " + std::to_string(samples.resolution) +
@@ -90,7 +90,7 @@ TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels, 
   TabulatedFabric fabric;
   fabric.view_directions = samples.view_directions;
   fabric.light_directions = samples.light_directions;
-  fabric.sampling_height = sampling_height;
+  fabric.view_heights = samples.view_heights;
   const size_t views = samples.view_count(), lights = samples.light_count();
   fabric.levels.push_back(FinestLevel(samples));
   while (mip_levels && fabric.levels.back().resolution > 1) {

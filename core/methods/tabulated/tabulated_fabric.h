@@ -29,7 +29,7 @@ struct TabulatedFabric {
   std::vector<glm::vec3> view_directions;   // HemisphereGridDirections order
   std::vector<glm::vec3> light_directions;  // HemisphereGridDirections order
   std::vector<TabulatedLevel> levels;       // levels[0] is the finest
-  float sampling_height = 0.0f;             // as FittedFabric::sampling_height
+  std::vector<float> view_heights;          // RadianceSamples::view_heights
   double seconds = 0.0;                     // wall time of TabulateFabric
 
   size_t view_count() const { return view_directions.size(); }
@@ -38,7 +38,7 @@ struct TabulatedFabric {
 
 // Every level down to 1×1 with `mip_levels` (the resolution must then be a power of
 // two: Error(kInvalidArgument) otherwise), level 0 alone without.
-TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels, float sampling_height);
+TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels);
 
 // The renderer's radiance (rgb, per unit irradiance of a light from `light`) and
 // alpha (a) of texel `texel` of `level` seen from `view`, both unit, tile frame.

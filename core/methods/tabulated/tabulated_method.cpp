@@ -27,7 +27,7 @@ constexpr const char* kTableFile = "table.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout.
-constexpr uint32_t kTabulatedFormatVersion = 1;
+constexpr uint32_t kTabulatedFormatVersion = 2;
 
 // The pixel of (texel, view, light) in a level's table atlas (tabulated_method.h):
 // lights on a k_l×k_l block inside the view's cell of the texel's k×k block of views.
@@ -75,10 +75,10 @@ class TabulatedTextures final : public GpuFabric {
   TabulatedTextures(const TabulatedFabric& fabric, bool half)
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
                  static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
-                 fabric.sampling_height},
-        views_(surface_.levels, ViewsSide(fabric, fabric.levels[0].resolution), 4, half),
-        table_(surface_.levels, TableSide(fabric, fabric.levels[0].resolution), 3, half) {
-    for (int level = 0; level < surface_.levels; ++level) {
+                 fabric.view_heights},
+        views_(surface_.levels(), ViewsSide(fabric, fabric.levels[0].resolution), 4, half),
+        table_(surface_.levels(), TableSide(fabric, fabric.levels[0].resolution), 3, half) {
+    for (int level = 0; level < surface_.levels(); ++level) {
       const TabulatedLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
       table_.Upload(level, TableAtlas(fabric, data).data());
@@ -88,10 +88,9 @@ class TabulatedTextures final : public GpuFabric {
   const FabricMethod& method() const override { return TabulatedMethod(); }
 
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
-    glBindTextureUnit(static_cast<GLuint>(first_unit), views_.id());
-    glBindTextureUnit(static_cast<GLuint>(first_unit + 1), table_.id());
-    surface_.Set(program, first_unit, repeat);
-    program.Set("u_fabric_table", first_unit + 1);
+    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), table_.id());
+    surface_.Bind(program, views_.id(), first_unit, repeat);
+    program.Set("u_fabric_table", first_unit + FabricSurface::kUnits);
   }
 
  private:
@@ -112,7 +111,7 @@ TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
     TabulatedFabric fabric;
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(lights);
-    fabric.sampling_height = header.sampling_height;
+    fabric.view_heights = header.view_heights;
     fabric.seconds = header.build_seconds;
     std::vector<int> table_sides, views_sides;
     for (const json& entry : manifest.at("levels")) {
@@ -163,12 +162,12 @@ class Tabulated final : public FabricMethod {
     return WithoutSvbrdfFit(std::move(settings));
   }
 
-  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples, float sampling_height,
+  std::unique_ptr<FabricAsset> Build(const RadianceSamples& samples,
                                      const v1::PrecomputeSettings& settings,
                                      const BuildProgress& progress) const override {
     if (progress) progress(0.0, "tabulate");
     auto asset = std::make_unique<TabulatedAsset>(
-        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE, sampling_height));
+        TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE));
     if (progress) progress(1.0, "tabulate");
     return asset;
   }
@@ -191,7 +190,7 @@ void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::st
   const std::string views_sha = WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
                                 static_cast<uint32_t>(fabric_.light_count()), fabric_.levels.front().resolution,
-                                fabric_.sampling_height, fabric_.seconds};
+                                fabric_.view_heights, fabric_.seconds};
   json manifest = TableManifest("tabulated", kTabulatedFormatVersion, fabric_key, resolved, header,
                                 Figures().at("levels"));
   manifest["files"] = {{kTableFile, FileEntry(directory / kTableFile, table_sha)},

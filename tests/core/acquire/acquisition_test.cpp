@@ -279,9 +279,52 @@ FabricTile SmallWeave() {
   return Tubes(tubes, material, 16, 8);
 }
 
+// --- Sampling planes ----------------------------------------------------------------------
+
+// A tube along x (axis at y = ½, z = ½, radius r) over nothing: a view's texels
+// cover the tube's silhouette, whose centre is where the axis projects along the
+// view onto the view's plane, y = ½ + (v.y / v.z)(h(v) − ½). Seen from the zenith
+// the rays meet the tube at a mean height of ½ + πr/4 (the mean of √(r² − y²)).
+TEST(Acquisition, EachViewsTexelsLieOnItsSamplingPlane) {
+  const float r = 0.05f;
+  const FabricTile tile = Tubes({{Axis::kX, 0.5f, 0.5f, r}}, Lambertian(0.7f), 64);
+  for (const auto plane : {v1::SAMPLING_PLANE_TOP, v1::SAMPLING_PLANE_VIEW_DEPTH}) {
+    SCOPED_TRACE(v1::SamplingPlane_Name(plane));
+    auto settings = Settings(64, 25, 4, 0, 2);
+    settings.set_sampling_plane(plane);
+    const RadianceSamples s = Acquire(tile, settings);
+    ASSERT_EQ(s.view_heights.size(), 25u);
+    const glm::vec3 zenith = s.view_directions[12];
+    ASSERT_EQ(zenith, glm::vec3(0, 0, 1));
+    if (plane == v1::SAMPLING_PLANE_TOP) {
+      for (float h : s.view_heights) EXPECT_NEAR(h, tile.z_max, 1e-3f);
+    } else {
+      EXPECT_NEAR(s.view_heights[12], 0.5f + glm::pi<float>() * r / 4.0f, 2e-3f);
+      for (float h : s.view_heights) {
+        EXPECT_GT(h, 0.5f);
+        EXPECT_LE(h, tile.z_max + 1e-3f);
+      }
+    }
+    for (size_t view = 0; view < s.view_count(); ++view) {
+      const glm::vec3 v = s.view_directions[view];
+      // The silhouette's centre in y: a circular mean over the texel rows (it may wrap).
+      glm::dvec2 sum(0.0);
+      for (size_t texel = 0; texel < s.texel_count(); ++texel) {
+        const double angle = 2.0 * glm::pi<double>() * ((texel / 64) + 0.5) / 64.0;
+        sum += double{s.alpha[s.AlphaIndex(texel, view)]} * glm::dvec2(std::cos(angle), std::sin(angle));
+      }
+      const double centre = std::atan2(sum.y, sum.x) / (2.0 * glm::pi<double>());
+      const double expected = 0.5 + double{v.y / v.z} * (double{s.view_heights[view]} - 0.5);
+      const double error = std::remainder(centre - expected, 1.0);
+      EXPECT_LT(std::abs(error), 0.5 / 64.0) << "view " << view << " centre " << centre << " expected " << expected;
+    }
+  }
+}
+
 TEST(Acquisition, SameInputsGiveBitIdenticalSamplesWhateverTheThreadCount) {
   const FabricTile tile = SmallWeave();
-  const auto settings = Settings(8, 9, 4, 1, 3);
+  auto settings = Settings(8, 9, 4, 1, 3);
+  settings.set_sampling_plane(v1::SAMPLING_PLANE_VIEW_DEPTH);
   const std::string first = EncodeRadianceSamples(Acquire(tile, settings, {}, nullptr, {.threads = 2}));
   const std::string second = EncodeRadianceSamples(Acquire(tile, settings, {}, nullptr, {.threads = 2}));
   const std::string single = EncodeRadianceSamples(Acquire(tile, settings, {}, nullptr, {.threads = 1}));

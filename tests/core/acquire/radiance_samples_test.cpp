@@ -24,6 +24,7 @@ RadianceSamples Filled() {
     s.tangents[t] = glm::normalize(glm::vec3(1.0f, 0.0f, -0.1f * t));
     s.normal_lengths[t] = 1.0f / (t + 1);
   }
+  for (size_t v = 0; v < s.view_count(); ++v) s.view_heights[v] = 0.3f - 0.01f * v;
   return s;
 }
 
@@ -63,7 +64,7 @@ TEST(RadianceSamples, FileRoundTripGivesBackIdenticalBits) {
   EXPECT_EQ(EncodeRadianceSamples(back), ReadFile(path));
   EXPECT_TRUE(std::signbit(back.radiance[0].b));
   // Documented size: header, floats, checksum.
-  const size_t floats = 3 * (9 + 4) + 7 * 16 + 16 * 9 + 3 * 16 * 9 * 4;
+  const size_t floats = 3 * (9 + 4) + 9 + 7 * 16 + 16 * 9 + 3 * 16 * 9 * 4;
   EXPECT_EQ(std::filesystem::file_size(path), 24 + 4 * floats + 64);
   EXPECT_EQ(ReadFile(path).substr(0, 8), "LOOMRSMP");
 }
@@ -106,9 +107,16 @@ TEST(RadianceSamples, WellFormedFilesWithBadContentAreRejected) {
   RadianceSamples nan = Filled();
   nan.radiance[7].g = std::numeric_limits<float>::quiet_NaN();
   EXPECT_NE(DecodeError(EncodeRadianceSamples(nan)).find("non-finite"), std::string::npos);
+  RadianceSamples infinite_height = Filled();
+  infinite_height.view_heights[2] = std::numeric_limits<float>::infinity();
+  EXPECT_NE(DecodeError(EncodeRadianceSamples(infinite_height)).find("non-finite"), std::string::npos);
+  RadianceSamples short_heights = Filled();
+  short_heights.view_heights.pop_back();
+  EXPECT_THROW(EncodeRadianceSamples(short_heights), Error);
 
   RadianceSamples not_a_grid = Filled();
   not_a_grid.view_directions.resize(8);
+  not_a_grid.view_heights.resize(8);
   not_a_grid.alpha.resize(not_a_grid.texel_count() * 8);
   not_a_grid.radiance.resize(not_a_grid.texel_count() * 8 * 4);
   EXPECT_NE(DecodeError(EncodeRadianceSamples(not_a_grid)).find("dimensions"), std::string::npos);
@@ -133,10 +141,10 @@ TEST(RadianceSamples, WellFormedFilesWithBadContentAreRejected) {
   EXPECT_NE(DecodeError(EncodeRadianceSamples(negative)).find("a radiance is negative"), std::string::npos);
 
   std::string future = EncodeRadianceSamples(Filled());
-  future[8] = 3;  // version 3, checksum recomputed
+  future[8] = 4;  // version 4, checksum recomputed
   future = future.substr(0, future.size() - 64);
   future += loom::Sha256Hex(future);
-  EXPECT_NE(DecodeError(future).find("version 3"), std::string::npos);
+  EXPECT_NE(DecodeError(future).find("version 4"), std::string::npos);
 }
 
 }  // namespace

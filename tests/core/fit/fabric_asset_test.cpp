@@ -36,7 +36,9 @@ FittedFabric SmallFabric(v1::MipLevels mip_levels = v1::MIP_LEVELS_AUTO) {
   settings.set_lobes(2);
   settings.set_mip_levels(mip_levels);
   FittedFabric fitted = FitFabric(samples, settings);
-  fitted.sampling_height = 0.0625f;
+  for (size_t view = 0; view < fitted.view_heights.size(); ++view) {
+    fitted.view_heights[view] = 0.0625f + 0.001f * static_cast<float>(view);
+  }
   return fitted;
 }
 
@@ -57,7 +59,7 @@ void ExpectSameLevels(const FittedFabric& a, const FittedFabric& b, float tolera
   ASSERT_EQ(a.levels.size(), b.levels.size());
   EXPECT_EQ(a.lobes, b.lobes);
   EXPECT_EQ(a.view_directions, b.view_directions);
-  EXPECT_EQ(a.sampling_height, b.sampling_height);
+  EXPECT_EQ(a.view_heights, b.view_heights);
   for (size_t k = 0; k < a.levels.size(); ++k) {
     const FittedLevel& x = a.levels[k];
     const FittedLevel& y = b.levels[k];

@@ -36,7 +36,7 @@ RadianceSamples SeparableSamples(uint32_t resolution, uint32_t views, uint32_t l
 
 TEST(FactoredFabric, RankOneRecoversASeparableTable) {
   const RadianceSamples samples = SeparableSamples(4, 16, 16);
-  const TabulatedFabric table = TabulateFabric(samples, true, 0.0f);
+  const TabulatedFabric table = TabulateFabric(samples, true);
   const FactoredFabric fabric = FactorFabric(table, 1, 2);
   for (const FactoredLevel& level : fabric.levels) EXPECT_LT(level.relative_rmse, 1e-5);
   for (size_t texel = 0; texel < samples.texel_count(); texel += 3) {
@@ -55,7 +55,7 @@ TEST(FactoredFabric, RankOneRecoversASeparableTable) {
 // everywhere between the stored directions it renders what tabulated renders: the
 // interpolations agree.
 TEST(FactoredFabric, FullRankRendersWhatTabulatedRendersBetweenStoredDirections) {
-  const TabulatedFabric table = TabulateFabric(SyntheticSamples(2, 4, 4, true), true, 0.0f);
+  const TabulatedFabric table = TabulateFabric(SyntheticSamples(2, 4, 4, true), true);
   const FactoredFabric fabric = FactorFabric(table, 4, 1);
   for (const FactoredLevel& level : fabric.levels) EXPECT_LT(level.relative_rmse, 1e-5);
   for (int i = 0; i < 50; ++i) {
@@ -68,7 +68,7 @@ TEST(FactoredFabric, FullRankRendersWhatTabulatedRendersBetweenStoredDirections)
 }
 
 TEST(FactoredFabric, TheErrorFallsWithEveryTermAndIsTheSameOnOneThreadAsOnTwo) {
-  const TabulatedFabric table = TabulateFabric(SyntheticSamples(4, 16, 16, true), true, 0.0f);
+  const TabulatedFabric table = TabulateFabric(SyntheticSamples(4, 16, 16, true), true);
   double previous = 1e9;
   for (uint32_t rank = 1; rank <= 4; ++rank) {
     const double error = FactorFabric(table, rank, 2).levels[0].relative_rmse;
@@ -81,7 +81,7 @@ TEST(FactoredFabric, TheErrorFallsWithEveryTermAndIsTheSameOnOneThreadAsOnTwo) {
 }
 
 TEST(FactoredAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
-  const FactoredAsset asset(FactorFabric(TabulateFabric(SyntheticSamples(4, 64, 64, true), true, 0.05f), 3));
+  const FactoredAsset asset(FactorFabric(TabulateFabric(WithViewHeights(SyntheticSamples(4, 64, 64, true), 0.05f), true), 3));
   const auto directory = std::filesystem::temp_directory_path() / "loom-factored-round-trip";
   std::filesystem::remove_all(directory);
   v1::PrecomputeSettings settings;
@@ -101,7 +101,7 @@ TEST(FactoredAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
     EXPECT_EQ(b.levels[j].alpha, a.levels[j].alpha);
     EXPECT_EQ(b.levels[j].relative_rmse, a.levels[j].relative_rmse);
   }
-  const PlaneProbe probe = ProbePlane(*read, 4, b.sampling_height, [&](size_t texel, glm::vec3 view, glm::vec3 light) {
+  const PlaneProbe probe = ProbePlane(*read, 4, b.view_heights, [&](size_t texel, glm::vec3 view, glm::vec3 light) {
     return EvaluateFactored(b, 0, texel, view, light);
   });
   EXPECT_GT(probe.compared, 96 * 64 / 5);

@@ -27,4 +27,12 @@ RadianceSamples SyntheticSamples(uint32_t resolution, uint32_t views, uint32_t l
   return samples;
 }
 
+RadianceSamples WithViewHeights(RadianceSamples samples, float base) {
+  for (size_t view = 0; view < samples.view_count(); ++view) {
+    const glm::vec3 v = samples.view_directions[view];
+    samples.view_heights[view] = base * (1.0f + 0.4f * (1.0f - v.z) + 0.1f * v.x);
+  }
+  return samples;
+}
+
 }  // namespace loom

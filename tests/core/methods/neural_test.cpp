@@ -36,7 +36,7 @@ TEST(NeuralFabric, TrainingRecoversATableTheDecoderCanHoldAtEveryLevel) {
       }
     }
   }
-  const TabulatedFabric table = TabulateFabric(samples, true, 0.0f);
+  const TabulatedFabric table = TabulateFabric(samples, true);
   const NeuralFabric trained = TrainNeural(table, Training(10000), 2);
   const NeuralFabric barely = TrainNeural(table, Training(20), 2);
   ASSERT_EQ(trained.levels.size(), 3u);
@@ -60,7 +60,7 @@ TEST(NeuralFabric, TrainingRecoversATableTheDecoderCanHoldAtEveryLevel) {
 }
 
 TEST(NeuralFabric, TrainingIsTheSameOnOneThreadAsOnTwoAndChangesWithTheSeed) {
-  const TabulatedFabric table = TabulateFabric(SyntheticSamples(4, 16, 16, true), true, 0.0f);
+  const TabulatedFabric table = TabulateFabric(SyntheticSamples(4, 16, 16, true), true);
   const NeuralFabric one = TrainNeural(table, Training(50), 1), two = TrainNeural(table, Training(50), 2);
   EXPECT_EQ(one.decoder.parameters, two.decoder.parameters);
   EXPECT_EQ(one.levels[1].latents, two.levels[1].latents);
@@ -70,7 +70,7 @@ TEST(NeuralFabric, TrainingIsTheSameOnOneThreadAsOnTwoAndChangesWithTheSeed) {
 }
 
 TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
-  const NeuralAsset asset(TrainNeural(TabulateFabric(SyntheticSamples(4, 64, 64, true), true, 0.05f),
+  const NeuralAsset asset(TrainNeural(TabulateFabric(WithViewHeights(SyntheticSamples(4, 64, 64, true), 0.05f), true),
                                       {8, 32, 2, 200, 1}));
   const auto directory = std::filesystem::temp_directory_path() / "loom-neural-round-trip";
   std::filesystem::remove_all(directory);
@@ -93,7 +93,7 @@ TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
     EXPECT_EQ(b.levels[j].alpha, a.levels[j].alpha);
     EXPECT_EQ(b.levels[j].relative_rmse, a.levels[j].relative_rmse);
   }
-  const PlaneProbe probe = ProbePlane(*read, 4, b.sampling_height, [&](size_t texel, glm::vec3 view, glm::vec3 light) {
+  const PlaneProbe probe = ProbePlane(*read, 4, b.view_heights, [&](size_t texel, glm::vec3 view, glm::vec3 light) {
     return EvaluateNeural(b, 0, texel, view, light);
   });
   EXPECT_GT(probe.compared, 96 * 64 / 5);
@@ -104,7 +104,7 @@ TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
 // A manifest edited by hand or corrupted is refused naming the field, before any
 // image is read.
 TEST(NeuralAsset, ABadDecoderInTheManifestIsRefusedNamingTheField) {
-  const NeuralAsset asset(TrainNeural(TabulateFabric(SyntheticSamples(2, 4, 4, false), true, 0.0f), {4, 4, 0, 5, 1}));
+  const NeuralAsset asset(TrainNeural(TabulateFabric(SyntheticSamples(2, 4, 4, false), true), {4, 4, 0, 5, 1}));
   const auto directory = std::filesystem::temp_directory_path() / "loom-neural-bad-manifest";
   const auto refusal = [&](const std::function<void(nlohmann::json&)>& edit) {
     std::filesystem::remove_all(directory);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/methods/direction_grid.h"
 #include "core/render/gpu_renderer.h"
 #include "core/scene/camera.h"
 #include "core/spec/defaults.h"
@@ -13,7 +14,7 @@
 
 namespace loom {
 
-PlaneProbe ProbePlane(const FabricAsset& asset, uint32_t resolution, float sampling_height,
+PlaneProbe ProbePlane(const FabricAsset& asset, uint32_t resolution, const std::vector<float>& view_heights,
                       const TexelEvaluation& evaluate) {
   const float repeat = 3.0f;
   const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(R"({
@@ -44,9 +45,8 @@ PlaneProbe ProbePlane(const FabricAsset& asset, uint32_t resolution, float sampl
       const glm::vec3 hit = origin + origin.z / (origin.z - through.z) * (through - origin);
       if (std::abs(hit.x) > 0.97f || std::abs(hit.y) > 0.97f) continue;
       const glm::vec3 view = glm::normalize(camera.position - hit);
-      // fabric_surface.glsl FabricTile: uv·repeat plus the parallax to the sampled face.
       const glm::vec2 uv(0.5f * hit.x + 0.5f, 0.5f * hit.y + 0.5f);
-      const glm::vec2 tile = uv * repeat + glm::vec2(view) / std::max(view.z, 0.1f) * sampling_height;
+      const glm::vec2 tile = FabricTileAt(uv * repeat, view, view_heights);
       const glm::vec2 at = glm::fract(tile) * static_cast<float>(resolution);
       const glm::vec2 inside = at - glm::floor(at);
       // Skip pixels on a texel's edge, where rounding may pick either texel.

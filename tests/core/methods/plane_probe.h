@@ -4,6 +4,7 @@
 // use to show that its GLSL equals its C++.
 
 #include <functional>
+#include <vector>
 #include <glm/glm.hpp>
 
 #include "core/methods/fabric_method.h"
@@ -21,8 +22,8 @@ struct PlaneProbe {
 
 // Renders a 96×64 plane (3×3 tiles, one directional light, no ambient, level 0,
 // nearest texels, no MSAA) with `asset` uploaded in full floats, and compares.
-// `resolution` is level 0's texels a side and `sampling_height` the asset's.
-PlaneProbe ProbePlane(const FabricAsset& asset, uint32_t resolution, float sampling_height,
+// `resolution` is level 0's texels a side and `view_heights` the asset's.
+PlaneProbe ProbePlane(const FabricAsset& asset, uint32_t resolution, const std::vector<float>& view_heights,
                       const TexelEvaluation& evaluate);
 
 }  // namespace loom

@@ -24,7 +24,7 @@ namespace {
 
 TEST(TabulatedFabric, LevelZeroHoldsTheSamplesAndReturnsThemAtTheStoredDirections) {
   const RadianceSamples samples = SyntheticSamples(4, 16, 16, false);
-  const TabulatedFabric fabric = TabulateFabric(samples, true, 0.1f);
+  const TabulatedFabric fabric = TabulateFabric(WithViewHeights(samples, 0.1f), true);
   ASSERT_EQ(fabric.levels.size(), 3u);
   for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
     for (size_t view = 0; view < samples.view_count(); ++view) {
@@ -41,7 +41,7 @@ TEST(TabulatedFabric, LevelZeroHoldsTheSamplesAndReturnsThemAtTheStoredDirection
 
 TEST(TabulatedFabric, ACoarseTexelPoolsItsChildrenWeightedByAlphaAndFillsItsHolesFromItsParent) {
   const RadianceSamples samples = SyntheticSamples(4, 16, 16, true);
-  const TabulatedFabric fabric = TabulateFabric(samples, true, 0.0f);
+  const TabulatedFabric fabric = TabulateFabric(samples, true);
   const size_t views = samples.view_count(), lights = samples.light_count();
   const TabulatedLevel& level1 = fabric.levels[1];
   size_t filled = 0;
@@ -88,7 +88,7 @@ TEST(TabulatedFabric, ACoarseTexelPoolsItsChildrenWeightedByAlphaAndFillsItsHole
 }
 
 TEST(TabulatedFabric, LightsBelowTheHorizonGiveNothingAndFadePastTheOutermostRing) {
-  const TabulatedFabric fabric = TabulateFabric(SyntheticSamples(2, 16, 16, false), false, 0.0f);
+  const TabulatedFabric fabric = TabulateFabric(SyntheticSamples(2, 16, 16, false), false);
   const glm::vec3 view(0.0f, 0.0f, 1.0f);
   EXPECT_EQ(glm::vec3(EvaluateTabulated(fabric, 0, 0, view, glm::normalize(glm::vec3(1, 0, -0.1f)))), glm::vec3(0.0f));
   // Grazing: past the outermost ring (k = 4: at about 61° from the normal) towards the horizon.
@@ -111,7 +111,7 @@ class TabulatedAssetTest : public ::testing::Test {
 };
 
 TEST_F(TabulatedAssetTest, RoundTripsExactlyInFullFloatsAndWithinHalfPrecisionOtherwise) {
-  const TabulatedAsset asset(TabulateFabric(SyntheticSamples(4, 16, 9, true), true, 0.125f));
+  const TabulatedAsset asset(TabulateFabric(WithViewHeights(SyntheticSamples(4, 16, 9, true), 0.125f), true));
   for (const bool half : {false, true}) {
     SCOPED_TRACE(half ? "half" : "full");
     v1::PrecomputeSettings settings;
@@ -125,7 +125,7 @@ TEST_F(TabulatedAssetTest, RoundTripsExactlyInFullFloatsAndWithinHalfPrecisionOt
     const TabulatedFabric& b = static_cast<const TabulatedAsset&>(*read).fabric();
     ASSERT_EQ(b.levels.size(), a.levels.size());
     EXPECT_EQ(b.light_count(), 9u);
-    EXPECT_EQ(b.sampling_height, 0.125f);
+    EXPECT_EQ(b.view_heights, a.view_heights);
     const float tolerance = half ? 1e-3f : 0.0f;
     for (size_t j = 0; j < a.levels.size(); ++j) {
       for (size_t i = 0; i < a.levels[j].radiance.size(); ++i) {
@@ -142,7 +142,7 @@ TEST_F(TabulatedAssetTest, RoundTripsExactlyInFullFloatsAndWithinHalfPrecisionOt
 }
 
 TEST_F(TabulatedAssetTest, ACorruptedTableIsRefusedNamingTheFile) {
-  TabulatedAsset(TabulateFabric(SyntheticSamples(2, 4, 4, false), true, 0.0f)).Write({}, "key", directory_);
+  TabulatedAsset(TabulateFabric(SyntheticSamples(2, 4, 4, false), true)).Write({}, "key", directory_);
   std::string bytes;
   {
     std::ifstream in(directory_ / "table.exr", std::ios::binary);
@@ -207,8 +207,8 @@ TEST(TabulatedKey, AnUnknownMethodIsRefusedNamingTheField) {
 // The GLSL lookup (tile coordinate with parallax, texel, view grid, light grid, both
 // bilinear interpolations, the view atlas's alpha) equals the C++ one per pixel.
 TEST(TabulatedRender, GlslEqualsTheCppLookupPerPixel) {
-  const TabulatedFabric fabric = TabulateFabric(SyntheticSamples(4, 64, 64, false), true, 0.05f);
-  const PlaneProbe probe = ProbePlane(TabulatedAsset(TabulatedFabric(fabric)), 4, fabric.sampling_height,
+  const TabulatedFabric fabric = TabulateFabric(WithViewHeights(SyntheticSamples(4, 64, 64, false), 0.05f), true);
+  const PlaneProbe probe = ProbePlane(TabulatedAsset(TabulatedFabric(fabric)), 4, fabric.view_heights,
                                       [&](size_t texel, glm::vec3 view, glm::vec3 light) {
                                         return EvaluateTabulated(fabric, 0, texel, view, light);
                                       });
