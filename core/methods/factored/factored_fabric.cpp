@@ -77,13 +77,7 @@ FactoredLevel FactorLevel(const TabulatedLevel& tabulated, uint32_t rank, size_t
       }
     }
   });
-  double residual_sum = 0.0, value_sum = 0.0;
-  for (size_t texel = 0; texel < texels; ++texel) {
-    residual_sum += residual[texel];
-    value_sum += total[texel];
-  }
-  const double count = static_cast<double>(texels * views * lights * 3);
-  level.relative_rmse = value_sum > 0.0 ? std::sqrt(residual_sum / count) / (value_sum / count) : 0.0;
+  level.relative_rmse = RelativeRmse(residual, total, texels * views * lights * 3);
   return level;
 }
 

@@ -132,13 +132,7 @@ void Summarise(const NeuralDecoder& decoder, const TabulatedLevel& table, const 
       }
     }
   });
-  double residual_sum = 0.0, value_sum = 0.0;
-  for (size_t texel = 0; texel < texels; ++texel) {
-    residual_sum += residual[texel];
-    value_sum += total[texel];
-  }
-  const double count = static_cast<double>(texels * v_count * l_count * 3);
-  level.relative_rmse = value_sum > 0.0 ? std::sqrt(residual_sum / count) / (value_sum / count) : 0.0;
+  level.relative_rmse = RelativeRmse(residual, total, texels * v_count * l_count * 3);
 }
 
 }  // namespace

@@ -81,6 +81,16 @@ void ComputeAmbient(TabulatedLevel& level, size_t views, size_t lights) {
 
 }  // namespace
 
+double RelativeRmse(const std::vector<double>& squared_residuals, const std::vector<double>& values, size_t count) {
+  double residual_sum = 0.0, value_sum = 0.0;
+  for (size_t texel = 0; texel < squared_residuals.size(); ++texel) {
+    residual_sum += squared_residuals[texel];
+    value_sum += values[texel];
+  }
+  const auto n = static_cast<double>(count);
+  return value_sum > 0.0 ? std::sqrt(residual_sum / n) / (value_sum / n) : 0.0;
+}
+
 TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels) {
   const Stopwatch stopwatch;
   if (mip_levels && !std::has_single_bit(samples.resolution)) {

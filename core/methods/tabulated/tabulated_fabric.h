@@ -40,6 +40,12 @@ struct TabulatedFabric {
 // two: Error(kInvalidArgument) otherwise), level 0 alone without.
 TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels);
 
+// How far a method's approximation of a tabulated level is from it: √(mean squared
+// residual) / mean value over `count` values, from per-texel sums of the squared
+// residuals and of the values (summed over texels in order: the same on any thread
+// count); 0 for a level of zeros.
+double RelativeRmse(const std::vector<double>& squared_residuals, const std::vector<double>& values, size_t count);
+
 // The renderer's radiance (rgb, per unit irradiance of a light from `light`) and
 // alpha (a) of texel `texel` of `level` seen from `view`, both unit, tile frame.
 glm::vec4 EvaluateTabulated(const TabulatedFabric& fabric, uint32_t level, size_t texel, glm::vec3 view,
