@@ -3,7 +3,8 @@
 # bench cloth (scenes/cloth_1080p.json: the standard knit draped over a ball, on a
 # floor, one shadow-casting light): svbrdf at the default settings (trilinear levels,
 # bilinear texels), with anisotropic levels and with nearest texels (the paper's
-# lookup), tabulated, factored and neural at the defaults, each the fastest of 5 frames of one
+# lookup), tabulated, factored and neural at the defaults, then each method shaded once per
+# MSAA sample (--shading-rate sample), each the fastest of 5 frames of one
 # renderer (the first compiles its shader variant and allocates the shadow maps);
 # then the reference of the same view once (64 samples per pixel), each method's
 # PSNR and SSIM against it and the reference/method time ratio.
@@ -39,13 +40,17 @@ gpu() {  # NAME METHOD, then loom-lab render flags
     -o "$out/$name.exr" "$@" >"$out/$name.json"
 }
 
-renders=(svbrdf svbrdf-anisotropic svbrdf-nearest tabulated factored neural)
+renders=(svbrdf svbrdf-anisotropic svbrdf-nearest tabulated factored neural svbrdf-sample tabulated-sample
+  factored-sample neural-sample)
 gpu svbrdf svbrdf
 gpu svbrdf-anisotropic svbrdf --level-mode anisotropic
 gpu svbrdf-nearest svbrdf --texel-filter nearest
 gpu tabulated tabulated
 gpu factored factored
 gpu neural neural
+for method in svbrdf tabulated factored neural; do
+  gpu "$method-sample" "$method" --shading-rate sample
+done
 "${lab[@]}" --json render "$scene" --method reference -o "$out/reference.exr" >"$out/reference.json"
 for name in "${renders[@]}"; do
   "${lab[@]}" --json compare "$out/$name.exr" "$out/reference.exr" >"$out/$name-compare.json"

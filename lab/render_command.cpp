@@ -83,7 +83,7 @@ Image RenderReference(const v1::SceneSpec& scene, const std::vector<SceneMesh>& 
 
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string scene, out, method, level_mode, texel_filter, fabric_cache;
+    std::string scene, out, method, level_mode, texel_filter, shading_rate, fabric_cache;
     std::optional<float> lod_bias;
     int frames = 1;
     GlFlags gl;
@@ -104,7 +104,10 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
                       "svbrdf texel filter (default: the scene's render.texel_filter)")
       ->check(CLI::IsMember({"nearest", "bilinear"}));
   command->add_option("--lod-bias", options->lod_bias,
-                      "svbrdf levels added to the footprint's, below 0 finer (default: the scene's render.lod_bias)");
+                      "levels added to the footprint's, below 0 finer (default: the scene's render.lod_bias)");
+  command->add_option("--shading-rate", options->shading_rate,
+                      "cloth shaded once per pixel or once per MSAA sample (default: the scene's render.shading_rate)")
+      ->check(CLI::IsMember({"pixel", "sample"}));
   command->add_option("--frames", options->frames,
                       "svbrdf: render this many frames and report the fastest (the first compiles and allocates)")
       ->check(CLI::Range(1, 1000));
@@ -136,6 +139,11 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
               render.set_texel_filter(filter);
             }
             if (options->lod_bias) render.set_lod_bias(*options->lod_bias);  // validated with the scene
+            if (!options->shading_rate.empty()) {
+              v1::ShadingRate rate = v1::SHADING_RATE_UNSPECIFIED;
+              v1::ShadingRate_Parse(EnumName("SHADING_RATE_", options->shading_rate), &rate);
+              render.set_shading_rate(rate);
+            }
             scene = WithDefaults(scene);
             ValidateOrThrow(scene);
             const auto meshes =

@@ -41,7 +41,7 @@ const std::vector<std::string> kColumns = {
     "configuration", "scene", "method", "method_settings", "fabric", "view", "distance", "tile_pixels",
     "footprint_pixels", "fabric_kind",
     "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-    "supersampling", "sampling_plane", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "reference_samples",
+    "supersampling", "sampling_plane", "seed", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "shading_rate", "reference_samples",
     "precompute_seconds", "precompute_cpu_seconds", "asset_bytes", "frame_ms", "gpu_ms",
     "rmse", "psnr_db", "perceptual_error", "flicker", "load_average"};
 
@@ -269,6 +269,7 @@ class Sweep {
                      when_svbrdf(std::to_string(precompute.seed())),
                      when_svbrdf(render_columns.level_mode), when_svbrdf(render_columns.texel_filter),
                      when_svbrdf(render_columns.msaa_samples), when_svbrdf(render_columns.lod_bias),
+                     when_svbrdf(render_columns.shading_rate),
                      svbrdf ? std::string() : std::to_string(render.reference_samples()),
                      Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),
                      std::to_string(precomputed.asset_bytes), Number(Fastest(frames.cpu_ms)),

@@ -21,7 +21,7 @@ struct Measured {
   FabricKind kind = FabricKind::kKnitMatte;
   double psnr = NAN, precompute = NAN, bytes = NAN;
   std::string method, method_settings, resolution, directions, lights, lobes, lookup_table, supersampling,
-      sampling_plane, level_mode, texel_filter, msaa, lod_bias, seed;
+      sampling_plane, level_mode, texel_filter, msaa, lod_bias, shading_rate, seed;
 };
 
 double ToNumber(const std::string& field) { return field.empty() ? NAN : std::stod(field); }
@@ -29,7 +29,7 @@ double ToNumber(const std::string& field) { return field.empty() ? NAN : std::st
 // What a row was fitted and rendered with, as far as the CSV says, its seed left out.
 std::string Settings(const Measured& m) {
   return m.method + ',' + m.method_settings + ',' + m.resolution + ',' + m.directions + ',' + m.lights + ',' + m.lobes + ',' + m.lookup_table + ',' +
-         m.supersampling + ',' + m.sampling_plane + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias;
+         m.supersampling + ',' + m.sampling_plane + ',' + m.level_mode + ',' + m.texel_filter + ',' + m.msaa + ',' + m.lod_bias + ',' + m.shading_rate;
 }
 
 // Every row takes the mean figures over the seeds measured on its scene with its
@@ -101,9 +101,11 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       return found == table.columns.end() ? before : row[size_t(found - table.columns.begin())];
     };
   };
-  // Sweeps before fabric methods had no method settings, before sampling planes the top face.
+  // Sweeps before fabric methods had no method settings, before sampling planes the
+  // top face, before shading rates one shading a pixel.
   const auto own_settings = optional_column("method_settings", "");
   const auto sampling_plane = optional_column("sampling_plane", kSamplingPlaneBeforeTheColumn);
+  const auto shading_rate = optional_column("shading_rate", kShadingRateBeforeTheColumn);
   const size_t configuration = column("configuration"), scene = column("scene"), method = column("method"),
                footprint = column("footprint_pixels"), kind = column("fabric_kind"), psnr = column("psnr_db"), precompute = column("precompute_cpu_seconds"),
                bytes = column("asset_bytes"), resolution = column("spatial_resolution"),
@@ -123,7 +125,8 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
                                             row[resolution], row[views],
                                             row[lights],        row[lobes],         row[lut],
                                             row[supersampling], sampling_plane(row), row[level], row[filter],
-                                            row[msaa],          row[lod_bias],      row[seed]};
+                                            row[msaa],          row[lod_bias],      shading_rate(row),
+                                            row[seed]};
   }
   AverageRepeats(rows);
   if (!rows.contains(baseline)) {
@@ -136,11 +139,11 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
   // before the defaults changed) would describe another renderer.
   const RenderColumns default_render = SweepRenderColumns(WithDefaults(v1::RenderSettings()));
   for (const auto& [scene_name, b] : base) {
-    const RenderColumns rendered{b.level_mode, b.texel_filter, b.msaa, b.lod_bias};
+    const RenderColumns rendered{b.level_mode, b.texel_filter, b.msaa, b.lod_bias, b.shading_rate};
     if (rendered == default_render) continue;
     const auto describe = [](const RenderColumns& r) {
       return "level_mode " + r.level_mode + ", texel_filter " + r.texel_filter + ", msaa_samples " + r.msaa_samples +
-             ", lod_bias " + r.lod_bias;
+             ", lod_bias " + r.lod_bias + ", shading_rate " + r.shading_rate;
     };
     throw Error(ErrorCode::kInvalidArgument, "sweep CSV: the baseline '" + baseline + "' on scene " + scene_name +
                                                  " was rendered with " + describe(rendered) +
@@ -184,7 +187,7 @@ std::vector<MeasuredVariation> DistillSweep(const CsvTable& table, const std::st
       if (found == base.end()) continue;
       const Measured& b = found->second;
       if (m.level_mode != b.level_mode || m.texel_filter != b.texel_filter || m.msaa != b.msaa ||
-          m.lod_bias != b.lod_bias) {
+          m.lod_bias != b.lod_bias || m.shading_rate != b.shading_rate) {
         single_change = false;  // renders differently: not a precompute variation
         break;
       }

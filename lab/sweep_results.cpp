@@ -25,7 +25,8 @@ std::string FormatLodBias(float bias) {
 RenderColumns SweepRenderColumns(const v1::RenderSettings& render) {
   return {v1::LevelMode_Name(render.level_mode()).substr(std::strlen("LEVEL_MODE_")),
           v1::TexelFilter_Name(render.texel_filter()).substr(std::strlen("TEXEL_FILTER_")),
-          std::to_string(render.msaa_samples()), FormatLodBias(render.lod_bias())};
+          std::to_string(render.msaa_samples()), FormatLodBias(render.lod_bias()),
+          v1::ShadingRate_Name(render.shading_rate()).substr(std::strlen("SHADING_RATE_"))};
 }
 
 std::string SamplingPlaneColumn(v1::SamplingPlane plane) {

@@ -16,11 +16,12 @@
 
 namespace loom::lab {
 
-// An svbrdf row's render columns (level_mode, texel_filter, msaa_samples,
-// lod_bias): the enums' names without their prefixes and the numbers, as the sweep
-// writes them and the planner's distill checks them.
+// A GPU row's render columns (level_mode, texel_filter, msaa_samples, lod_bias,
+// shading_rate): the enums' names without their prefixes and the numbers, as the
+// sweep writes them and the planner's distill checks them. Sweeps from before the
+// shading_rate column shaded once per pixel.
 struct RenderColumns {
-  std::string level_mode, texel_filter, msaa_samples, lod_bias;
+  std::string level_mode, texel_filter, msaa_samples, lod_bias, shading_rate;
   bool operator==(const RenderColumns&) const = default;
 };
 RenderColumns SweepRenderColumns(const v1::RenderSettings& render);
@@ -29,6 +30,7 @@ RenderColumns SweepRenderColumns(const v1::RenderSettings& render);
 // defaults applied). Sweeps from before the column had every view's texels on the top face.
 std::string SamplingPlaneColumn(v1::SamplingPlane plane);
 inline constexpr const char* kSamplingPlaneBeforeTheColumn = "top";
+inline constexpr const char* kShadingRateBeforeTheColumn = "PIXEL";
 
 class SweepResults {
  public:

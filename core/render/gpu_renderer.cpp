@@ -1,6 +1,7 @@
 #include "core/render/gpu_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <string>
 
@@ -97,6 +98,25 @@ int MsaaSamples(const v1::RenderSettings& settings) {
   return limit;
 }
 
+// SHADING_RATE_SAMPLE: cloth shaded once per MSAA sample, each at the level of its
+// share of the pixel's footprint (half a level finer per doubling of the samples).
+bool SampleShading(const v1::RenderSettings& settings, int samples) {
+  return settings.shading_rate() == v1::SHADING_RATE_SAMPLE && samples > 1;
+}
+
+float ShadingLodBias(const v1::RenderSettings& settings, int samples) {
+  return SampleShading(settings, samples) ? -0.5f * std::log2(static_cast<float>(samples)) : 0.0f;
+}
+
+void SetSampleShading(bool on) {
+  if (on) {
+    glEnable(GL_SAMPLE_SHADING);
+    glMinSampleShading(1.0f);
+  } else {
+    glDisable(GL_SAMPLE_SHADING);
+  }
+}
+
 gl::ShaderProgram OpaqueProgram() {
   gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag");
   program.Set("u_shadow_maps", kShadowUnit);
@@ -184,7 +204,7 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     program->Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
     program->Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
     program->Set("u_level_mode", static_cast<int>(settings.level_mode()));
-    program->Set("u_lod_bias", settings.lod_bias());
+    program->Set("u_lod_bias", settings.lod_bias() + ShadingLodBias(settings, samples));
   }
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:
@@ -196,16 +216,19 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     const GpuFabric* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
     if (fabric != nullptr) {
       cloth[i]->Use();
+      SetSampleShading(SampleShading(settings, samples));
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       fabric->Bind(*cloth[i], kFabricUnit, FabricRepeat(object));
     } else {
+      SetSampleShading(false);
       opaque_program_.Use();
       opaque_program_.Set("u_base_colour", ToGlm(object.base_colour()));
     }
     buffers[i]->Draw();
   }
   glDisable(GL_BLEND);
+  SetSampleShading(false);
   timer.Stop();
 
   RenderedFrame frame;

@@ -19,7 +19,7 @@ uniform int u_fabric_view_side;          // k: the view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
 uniform sampler2D u_fabric_view_heights; // k×k: each stored view's sampling height, tile z
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
-uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
+uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias; shaded per sample, less ½·log2 of the samples); 0 in the shadow pass
 #ifdef LOOM_FABRIC_LIGHT_GRID
 uniform int u_fabric_light_side;         // the light grid is k_l×k_l
 #endif

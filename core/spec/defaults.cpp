@@ -222,6 +222,7 @@ v1::RenderSettings WithDefaults(v1::RenderSettings settings) {
   // Bilinear: +1.6 dB on average over the paper's nearest lookup on the bench set and
   // under a second per 1080p frame on llvmpipe (docs/accuracy.md).
   if (settings.texel_filter() == v1::TEXEL_FILTER_UNSPECIFIED) settings.set_texel_filter(v1::TEXEL_FILTER_BILINEAR);
+  if (settings.shading_rate() == v1::SHADING_RATE_UNSPECIFIED) settings.set_shading_rate(v1::SHADING_RATE_PIXEL);
   if (settings.shadow_map_size() == 0) settings.set_shadow_map_size(kDefaultShadowMapSize);
   if (settings.reference_samples() == 0) settings.set_reference_samples(kDefaultReferenceSamples);
   // `format` stays unspecified: it is resolved from the output file name.

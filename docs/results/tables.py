@@ -67,7 +67,7 @@ def sweep(path):
         print(f"| {label} | {n} | " + " | ".join(cells) + " |")
 
 SETTINGS = ("method", "method_settings", "spatial_resolution", "view_directions", "light_directions", "lobes", "lookup_table",
-            "supersampling", "sampling_plane", "level_mode", "texel_filter", "msaa_samples", "lod_bias")
+            "supersampling", "sampling_plane", "level_mode", "texel_filter", "msaa_samples", "lod_bias", "shading_rate")
 
 def seed_means(tables):
     """(scene, settings) → mean PSNR over the distinct seeds in `tables`, as

@@ -240,6 +240,23 @@ TEST(SweepDistill, RefusesABaselineNotAcquiredOnTheDefaultSamplingPlane) {
   }
 }
 
+// Sweeps from before the shading_rate column shaded once per pixel; a baseline
+// shaded per sample is not the default render.
+TEST(SweepDistill, RefusesABaselineShadedPerSample) {
+  CsvTable table = Table({Row("default", "a", 64, 20, 10, 100, kDefault), Row("lobes1", "a", 64, 19, 5, 90, kLobes1)});
+  EXPECT_NO_THROW(DistillSweep(table));
+  table.columns.push_back("shading_rate");
+  for (auto& row : table.rows) row.push_back("PIXEL");
+  EXPECT_EQ(DistillSweep(table).size(), 1u);
+  for (auto& row : table.rows) row.back() = "SAMPLE";
+  try {
+    DistillSweep(table);
+    FAIL() << "a baseline shaded per sample was distilled";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("shading_rate SAMPLE"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SweepDistill, NeedsTheBaseline) {
   EXPECT_THROW(DistillSweep(Table({Row("lobes1", "a", 64, 19, 5, 90, kDefault)})), Error);
 }

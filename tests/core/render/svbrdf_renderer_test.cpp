@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <glm/gtc/constants.hpp>
 
 #include "core/acquire/hemisphere_directions.h"
@@ -159,7 +161,8 @@ FabricTextureData DiffuseFabric(uint32_t resolution, uint32_t view_side, glm::ve
 // seen `tilt_degrees` off the normal (the camera moves towards −y). Nearest texels,
 // so that a pixel shows the one texel the tests probe.
 std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level_mode = "LEVEL_MODE_TRILINEAR",
-                       float tilt_degrees = 0.0f, float lod_bias = 0.0f) {
+                       float tilt_degrees = 0.0f, float lod_bias = 0.0f,
+                       const char* shading_rate = "SHADING_RATE_PIXEL") {
   const float tilt = glm::radians(tilt_degrees);
   const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
       "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
@@ -173,7 +176,7 @@ std::string ClothScene(float repeat, bool red_floor, int msaa, const char* level
     "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 2}],
     "render": {"width": 64, "height": 64, "msaa_samples": )" + std::to_string(msaa) +
          R"(, "level_mode": ")" + level_mode + R"(", "texel_filter": "TEXEL_FILTER_NEAREST", "lod_bias": )" +
-         std::to_string(lod_bias) + "}}";
+         std::to_string(lod_bias) + R"(, "shading_rate": ")" + shading_rate + R"("}})";
 }
 
 // The scene with `data` as the fabric of every object that has one.
@@ -392,6 +395,37 @@ TEST(SvbrdfFabric, LodBiasShiftsTheLevelWithinTheChainButNotLevelZeroOnly) {
   EXPECT_NEAR(grey("LEVEL_MODE_NEAREST", 3.0f), 0.3f, 1e-5f);  // clamped to the coarsest level
   EXPECT_NEAR(grey("LEVEL_MODE_TRILINEAR", -0.5f), 0.15f, 2e-3f);
   EXPECT_NEAR(grey("LEVEL_MODE_NONE", 1.0f), 0.1f, 1e-5f);  // level 0 whatever the bias
+}
+
+// Shaded per sample, each of 4 samples reads the level of its quarter of the
+// footprint, one finer than the pixel's. Level 0 a black-and-white checkerboard of
+// texels half a pixel wide, level 1 (the pixel's footprint) a grey 0.2: shaded
+// once per pixel, a pixel is the grey; once per sample, each sample (GL's standard
+// 4× pattern puts one in each quarter of the pixel) reads its own level-0 texel and
+// the pixel resolves to their mean, ½, the reference's box filter over the pixel.
+TEST(SvbrdfFabric, SampleShadingReadsEverySamplesTexelAtItsShareOfTheFootprint) {
+  FabricTextureData data = DiffuseFabric(8, 3, glm::vec3(0.0f));
+  for (uint32_t level = 0; level < data.levels(); ++level)
+    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
+        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(level == 0 ? float((x + y) % 2) : 0.2f), 0.0f);
+  const auto greys = [&](int msaa, const char* rate) {
+    // 16 tiles over 64 px at 8 texels a tile: 2 level-0 texels a pixel, λ = 1.
+    const Image image = RenderCloth(ClothScene(16, false, msaa, "LEVEL_MODE_TRILINEAR", 0.0f, 0.0f, rate), data).image;
+    std::vector<float> inside;
+    for (int y = 8; y < 56; ++y)
+      for (int x = 8; x < 56; ++x) inside.push_back(image.at(x, y, 0) / 2.0f);
+    return std::pair(*std::min_element(inside.begin(), inside.end()), *std::max_element(inside.begin(), inside.end()));
+  };
+  const auto [pixel_min, pixel_max] = greys(4, "SHADING_RATE_PIXEL");
+  EXPECT_NEAR(pixel_min, 0.2f, 2e-3f);
+  EXPECT_NEAR(pixel_max, 0.2f, 2e-3f);
+  const auto [sample_min, sample_max] = greys(4, "SHADING_RATE_SAMPLE");
+  EXPECT_NEAR(sample_min, 0.5f, 2e-3f);
+  EXPECT_NEAR(sample_max, 0.5f, 2e-3f);
+  const auto [single_min, single_max] = greys(1, "SHADING_RATE_SAMPLE");  // one sample: a pixel's shading
+  EXPECT_NEAR(single_min, 0.2f, 2e-3f);
+  EXPECT_NEAR(single_max, 0.2f, 2e-3f);
 }
 
 }  // namespace

@@ -261,7 +261,9 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"LodBiasTooFine", R"({"lod_bias": -4.5})", "render.lod_bias", "-4.5 is below -4"},
         RuleCase{"LodBiasTooCoarse", R"({"lod_bias": 5})", "render.lod_bias", "5 exceeds 4"},
         RuleCase{"LodBiasNotFinite", R"({"lod_bias": "NaN"})", "render.lod_bias", "NaN is not a finite number"},
-        RuleCase{"UnknownFormat", R"({"format": 5})", "render.format", "5 is not a known ImageFormat value"}),
+        RuleCase{"UnknownFormat", R"({"format": 5})", "render.format", "5 is not a known ImageFormat value"},
+        RuleCase{"UnknownShadingRate", R"({"shading_rate": 3})", "render.shading_rate",
+                 "3 is not a known ShadingRate value"}),
     CaseName);
 
 class SceneRule : public testing::TestWithParam<RuleCase> {};
