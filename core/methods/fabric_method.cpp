@@ -19,6 +19,15 @@ std::array<const FabricMethod*, 4> Methods() {
   return {&SvbrdfMethod(), &TabulatedMethod(), &FactoredMethod(), &NeuralMethod()};
 }
 
+// `view_side`, checked against the count of view heights before any texture is made.
+int CheckedViewSide(int view_side, size_t view_heights) {
+  if (view_side <= 0 || view_heights != static_cast<size_t>(view_side) * static_cast<size_t>(view_side)) {
+    throw Error(ErrorCode::kInvalidArgument, "fabric surface: " + std::to_string(view_heights) +
+                                                 " view heights for a " + std::to_string(view_side) + "² view grid");
+  }
+  return view_side;
+}
+
 }  // namespace
 
 FabricSurface::FabricSurface(int levels, int resolution, int view_side, int light_side,
@@ -27,11 +36,7 @@ FabricSurface::FabricSurface(int levels, int resolution, int view_side, int ligh
       resolution_(resolution),
       view_side_(view_side),
       light_side_(light_side),
-      heights_(1, view_side, 1, /*half=*/false) {
-  if (view_side <= 0 || view_heights.size() != static_cast<size_t>(view_side) * static_cast<size_t>(view_side)) {
-    throw Error(ErrorCode::kInvalidArgument, "fabric surface: " + std::to_string(view_heights.size()) +
-                                                 " view heights for a " + std::to_string(view_side) + "² view grid");
-  }
+      heights_(1, CheckedViewSide(view_side, view_heights.size()), 1, /*half=*/false) {
   heights_.Upload(0, view_heights.data());
 }
 
