@@ -98,13 +98,14 @@ int MsaaSamples(const v1::RenderSettings& settings) {
   return limit;
 }
 
-// SHADING_RATE_SAMPLE: cloth shaded once per MSAA sample, each at the level of its
-// share of the pixel's footprint (half a level finer per doubling of the samples).
+// SHADING_RATE_SAMPLE: cloth shaded once per MSAA sample, each at most at the level
+// of its share of the pixel's footprint (half a level finer per doubling of the
+// samples; fabric_surface.glsl FabricLevels).
 bool SampleShading(const v1::RenderSettings& settings, int samples) {
   return settings.shading_rate() == v1::SHADING_RATE_SAMPLE && samples > 1;
 }
 
-float ShadingLodBias(const v1::RenderSettings& settings, int samples) {
+float SampleLodBias(const v1::RenderSettings& settings, int samples) {
   return SampleShading(settings, samples) ? -0.5f * std::log2(static_cast<float>(samples)) : 0.0f;
 }
 
@@ -204,7 +205,8 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     program->Set("u_orthographic", scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC ? 1 : 0);
     program->Set("u_towards_viewer", glm::normalize(camera.position - ToGlm(scene.camera().target())));
     program->Set("u_level_mode", static_cast<int>(settings.level_mode()));
-    program->Set("u_lod_bias", settings.lod_bias() + ShadingLodBias(settings, samples));
+    program->Set("u_lod_bias", settings.lod_bias());
+    program->Set("u_sample_lod_bias", SampleLodBias(settings, samples));
   }
   glBindTextureUnit(kShadowUnit, shadows_->texture());
   // Opaque objects first, then cloth back to front with premultiplied blending:

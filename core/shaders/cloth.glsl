@@ -42,17 +42,19 @@ vec4 ShadeFabricLevels(vec2 tile, FabricFootprint f, FabricFragment fragment) {
   return result;
 }
 
-// The fabric's radiance and alpha at a fragment. `uv` is the mesh uv; the frame
+// The fabric's radiance and alpha at a fragment. `uv` is the mesh uv (at the sample
+// when shaded per sample), `pixel_uv` the uv at the pixel's centre; the frame
 // (normal, tangent, bitangent) is the mesh's, facing the viewer; `towards_viewer`
 // is the unit world direction to the eye.
-vec4 ShadeFabric(vec2 uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitangent, vec3 towards_viewer,
-                 vec3 ambient) {
+vec4 ShadeFabric(vec2 uv, vec2 pixel_uv, vec3 position, vec3 normal, vec3 tangent, vec3 bitangent,
+                 vec3 towards_viewer, vec3 ambient) {
   mat3 to_surface = transpose(mat3(tangent, bitangent, normal));
   vec3 view = to_surface * towards_viewer;
   FabricFragment fragment = GatherFabricFragment(view, to_surface, position, normal, ambient);
   vec2 tile = FabricTileOnGrid(uv, view, fragment.view_grid);
   // The footprint before the shading loop: derivatives are undefined inside it.
   FabricFootprint f = FabricLevels(tile);
+  tile = mix(tile, FabricTileOnGrid(pixel_uv, view, fragment.view_grid), f.centring);
 #ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {
@@ -90,7 +92,7 @@ const float kMinCoverage = 1.0 / 256.0;
 void main() {
   mat3 frame = ClothFrame(v_normal, v_tangent, gl_FrontFacing);
   vec3 view = u_orthographic ? u_towards_viewer : normalize(u_eye - v_position);
-  vec4 shaded = ShadeFabric(v_uv, v_position, frame[2], frame[0], frame[1], view, u_ambient);
+  vec4 shaded = ShadeFabric(v_uv, interpolateAtOffset(v_uv, vec2(0.0)), v_position, frame[2], frame[0], frame[1], view, u_ambient);
   // A hole writes no depth, so cloth drawn later behind it still shows.
   if (shaded.a < kMinCoverage) discard;
   // Premultiplied: blended over what lies behind (GpuRenderer draws cloth last).

@@ -19,7 +19,8 @@ uniform int u_fabric_view_side;          // k: the view grid is k×k
 uniform vec2 u_fabric_repeat;            // tiles across the uv square (t_N)
 uniform sampler2D u_fabric_view_heights; // k×k: each stored view's sampling height, tile z
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
-uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias; shaded per sample, less ½·log2 of the samples); 0 in the shadow pass
+uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
+uniform float u_sample_lod_bias;         // shaded per MSAA sample: −½·log2(samples), else 0 (FabricLevels)
 #ifdef LOOM_FABRIC_LIGHT_GRID
 uniform int u_fabric_light_side;         // the light grid is k_l×k_l
 #endif
@@ -133,12 +134,23 @@ ivec2 FabricTexelAt(vec2 tile, int level) {
 // round footprint both modes agree.
 const int kMaxAnisotropy = 8;
 
+// Shaded per MSAA sample (render.shading_rate SAMPLE), each sample reads the level
+// of its share of the footprint, ½·log2(samples) finer than the pixel's, where the
+// pixel's footprint is below kSampleSharpenFrom levels; from there to
+// kSampleSharpenTo the bias fades and the sample moves to the pixel's centre, and
+// beyond it every sample shades as the pixel would. Far away the finer level's
+// periodic pattern, point-sampled by four samples, aliases (docs/accuracy.md,
+// "Shading rate").
+const float kSampleSharpenFrom = 2.5;
+const float kSampleSharpenTo = 3.5;
+
 struct FabricFootprint {
   int level0;
   int level1;
   float blend;
-  int samples;  // shadings along `axis`
-  vec2 axis;    // the longer axis of the pixel's footprint, tile units
+  int samples;     // shadings along `axis`
+  vec2 axis;       // the longer axis of the pixel's footprint, tile units
+  float centring;  // shaded per sample: 0 at the sample, 1 at the pixel's centre
 };
 
 FabricFootprint FabricLevels(vec2 tile) {
@@ -154,7 +166,9 @@ FabricFootprint FabricLevels(vec2 tile) {
 #else
   float lambda = 0.5 * log2(max(lu * lv, 1e-16));
 #endif
-  lambda = clamp(lambda + u_lod_bias, 0.0, float(u_fabric_levels - 1));
+  float sharpen = clamp((kSampleSharpenTo - lambda) / (kSampleSharpenTo - kSampleSharpenFrom), 0.0, 1.0);
+  f.centring = u_sample_lod_bias < 0.0 ? 1.0 - sharpen : 0.0;
+  lambda = clamp(lambda + u_lod_bias + u_sample_lod_bias * sharpen, 0.0, float(u_fabric_levels - 1));
   if (u_level_mode == 1) lambda = 0.0;
   if (u_level_mode == 2) lambda = floor(lambda + 0.5);
   f.level0 = int(floor(lambda));

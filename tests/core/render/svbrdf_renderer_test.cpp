@@ -398,34 +398,59 @@ TEST(SvbrdfFabric, LodBiasShiftsTheLevelWithinTheChainButNotLevelZeroOnly) {
 }
 
 // Shaded per sample, each of 4 samples reads the level of its quarter of the
-// footprint, one finer than the pixel's. Level 0 a black-and-white checkerboard of
-// texels half a pixel wide, level 1 (the pixel's footprint) a grey 0.2: shaded
-// once per pixel, a pixel is the grey; once per sample, each sample (GL's standard
-// 4× pattern puts one in each quarter of the pixel) reads its own level-0 texel and
-// the pixel resolves to their mean, ½, the reference's box filter over the pixel.
+// footprint, one finer than the pixel's, where the pixel's footprint is below
+// level 2.5, and the pixel's own level beyond 3.5. Level 0 a black-and-white
+// checkerboard of texels half a pixel wide where the footprint is level 1, every
+// coarser level L a grey 0.1·L but level 4 a checkerboard of 0 and 0.8: shaded
+// once per pixel, a pixel is a level's grey;
+// once per sample near by, each sample (GL's standard 4× pattern puts one in each
+// quarter of the pixel) reads its own level-0 texel and the pixel resolves to their
+// mean, ½, the reference's box filter over the pixel.
 TEST(SvbrdfFabric, SampleShadingReadsEverySamplesTexelAtItsShareOfTheFootprint) {
-  FabricTextureData data = DiffuseFabric(8, 3, glm::vec3(0.0f));
+  // Levels 32, 16, 8, 4, 2, 1 texels; level 4 a checkerboard of 0 and 0.8.
+  FabricTextureData data = DiffuseFabric(32, 3, glm::vec3(0.0f));
   for (uint32_t level = 0; level < data.levels(); ++level)
     for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
-      for (uint32_t x = 0; x < data.LevelResolution(level); ++x)
-        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(level == 0 ? float((x + y) % 2) : 0.2f), 0.0f);
-  const auto greys = [&](int msaa, const char* rate) {
-    // 16 tiles over 64 px at 8 texels a tile: 2 level-0 texels a pixel, λ = 1.
-    const Image image = RenderCloth(ClothScene(16, false, msaa, "LEVEL_MODE_TRILINEAR", 0.0f, 0.0f, rate), data).image;
+      for (uint32_t x = 0; x < data.LevelResolution(level); ++x) {
+        const float checker = float((x + y) % 2);
+        const float grey = level == 0 ? checker : level == 4 ? 0.8f * checker : 0.1f * level;
+        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(grey), 0.0f);
+      }
+  // The greys inside the frame; the camera moved `shift` pixels along x.
+  const auto greys = [&](float repeat, int msaa, const char* rate, float shift = 0.0f) {
+    std::string scene = ClothScene(repeat, false, msaa, "LEVEL_MODE_TRILINEAR", 0.0f, 0.0f, rate);
+    const std::string at = R"("position": {"x": 0,)";
+    const std::string x = std::to_string(shift * 2.0f / 64.0f);
+    scene.replace(scene.find(at), at.size(), R"("target": {"x": )" + x + R"(}, "position": {"x": )" + x + ",");
+    const Image image = RenderCloth(scene, data).image;
     std::vector<float> inside;
     for (int y = 8; y < 56; ++y)
       for (int x = 8; x < 56; ++x) inside.push_back(image.at(x, y, 0) / 2.0f);
-    return std::pair(*std::min_element(inside.begin(), inside.end()), *std::max_element(inside.begin(), inside.end()));
+    return inside;
   };
-  const auto [pixel_min, pixel_max] = greys(4, "SHADING_RATE_PIXEL");
-  EXPECT_NEAR(pixel_min, 0.2f, 2e-3f);
-  EXPECT_NEAR(pixel_max, 0.2f, 2e-3f);
-  const auto [sample_min, sample_max] = greys(4, "SHADING_RATE_SAMPLE");
-  EXPECT_NEAR(sample_min, 0.5f, 2e-3f);
-  EXPECT_NEAR(sample_max, 0.5f, 2e-3f);
-  const auto [single_min, single_max] = greys(1, "SHADING_RATE_SAMPLE");  // one sample: a pixel's shading
-  EXPECT_NEAR(single_min, 0.2f, 2e-3f);
-  EXPECT_NEAR(single_max, 0.2f, 2e-3f);
+  // How many of `values` are none of `expected` (within 2e-3).
+  const auto others = [](const std::vector<float>& values, std::vector<float> expected) {
+    return std::count_if(values.begin(), values.end(), [&](float v) {
+      return std::none_of(expected.begin(), expected.end(), [&](float e) { return std::abs(v - e) < 2e-3f; });
+    });
+  };
+  // 4 tiles over 64 px at 32 texels a tile: 2 level-0 texels a pixel, λ = 1. Once
+  // per sample each sample reads its own level-0 texel: the pixel their mean.
+  EXPECT_EQ(others(greys(4, 4, "SHADING_RATE_PIXEL"), {0.1f}), 0);
+  EXPECT_EQ(others(greys(4, 4, "SHADING_RATE_SAMPLE"), {0.5f}), 0);
+  EXPECT_EQ(others(greys(4, 1, "SHADING_RATE_SAMPLE"), {0.1f}), 0);  // one sample: a pixel's shading
+  // 16 tiles: λ = 3, half the bias: λ 2.5, between the greys of levels 2 and 3.
+  EXPECT_EQ(others(greys(16, 4, "SHADING_RATE_SAMPLE"), {0.25f}), 0);
+  // 32 tiles: λ = 4, a level-4 texel a pixel: every sample reads the pixel's texel,
+  // also with the texels' edges a quarter pixel off the pixels' (not ¼ and ¾ of one
+  // texel and the next, as the samples' own places would).
+  for (const float shift : {0.0f, 0.25f}) {
+    for (const char* rate : {"SHADING_RATE_PIXEL", "SHADING_RATE_SAMPLE"}) {
+      const std::vector<float> values = greys(32, 4, rate, shift);
+      EXPECT_EQ(others(values, {0.0f, 0.8f}), 0) << rate << " shifted " << shift;
+      EXPECT_GT(std::count_if(values.begin(), values.end(), [](float v) { return v > 0.4f; }), 1000) << rate;
+    }
+  }
 }
 
 }  // namespace
