@@ -135,14 +135,14 @@ ivec2 FabricTexelAt(vec2 tile, int level) {
 const int kMaxAnisotropy = 8;
 
 // Shaded per MSAA sample (render.shading_rate SAMPLE), each sample reads the level
-// of its share of the footprint, ½·log2(samples) finer than the pixel's, where the
-// pixel's footprint is below kSampleSharpenFrom levels; from there to
-// kSampleSharpenTo the bias fades and the sample moves to the pixel's centre, and
-// beyond it every sample shades as the pixel would. Far away the finer level's
-// periodic pattern, point-sampled by four samples, aliases (docs/accuracy.md,
-// "Shading rate").
-const float kSampleSharpenFrom = 2.5;
-const float kSampleSharpenTo = 3.5;
+// of its share of the footprint, ½·log2(samples) finer than the pixel's, where a
+// tile (the weave's period) spans more than 2^kSampleSharpenFrom pixels; from there
+// to 2^kSampleSharpenTo the bias fades and the sample moves to the pixel's centre,
+// and below it every sample shades as the pixel would. On a tile of a few pixels
+// the finer level's periodic pattern, point-sampled by four samples, aliases
+// (docs/accuracy.md, "Shading rate"). With 32 texels a tile: levels 2.5 to 3.5.
+const float kSampleSharpenFrom = 2.5;  // log2 of a tile's span in pixels
+const float kSampleSharpenTo = 1.5;
 
 struct FabricFootprint {
   int level0;
@@ -166,7 +166,8 @@ FabricFootprint FabricLevels(vec2 tile) {
 #else
   float lambda = 0.5 * log2(max(lu * lv, 1e-16));
 #endif
-  float sharpen = clamp((kSampleSharpenTo - lambda) / (kSampleSharpenTo - kSampleSharpenFrom), 0.0, 1.0);
+  float tile_span = log2(float(u_fabric_resolution)) - lambda;  // log2 of a tile's pixels
+  float sharpen = clamp((tile_span - kSampleSharpenTo) / (kSampleSharpenFrom - kSampleSharpenTo), 0.0, 1.0);
   f.centring = u_sample_lod_bias < 0.0 ? 1.0 - sharpen : 0.0;
   lambda = clamp(lambda + u_lod_bias + u_sample_lod_bias * sharpen, 0.0, float(u_fabric_levels - 1));
   if (u_level_mode == 1) lambda = 0.0;

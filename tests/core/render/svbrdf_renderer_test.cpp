@@ -398,8 +398,9 @@ TEST(SvbrdfFabric, LodBiasShiftsTheLevelWithinTheChainButNotLevelZeroOnly) {
 }
 
 // Shaded per sample, each of 4 samples reads the level of its quarter of the
-// footprint, one finer than the pixel's, where the pixel's footprint is below
-// level 2.5, and the pixel's own level beyond 3.5. Level 0 a black-and-white
+// footprint, one finer than the pixel's, where a tile spans more than 2^2.5 px
+// (32 texels a tile: the pixel's footprint below level 2.5), and the pixel's own
+// level below 2^1.5 px (level 3.5). Level 0 a black-and-white
 // checkerboard of texels half a pixel wide where the footprint is level 1, every
 // coarser level L a grey 0.1·L but level 4 a checkerboard of 0 and 0.8: shaded
 // once per pixel, a pixel is a level's grey;
@@ -441,6 +442,17 @@ TEST(SvbrdfFabric, SampleShadingReadsEverySamplesTexelAtItsShareOfTheFootprint) 
   EXPECT_EQ(others(greys(4, 1, "SHADING_RATE_SAMPLE"), {0.1f}), 0);  // one sample: a pixel's shading
   // 16 tiles: λ = 3, half the bias: λ 2.5, between the greys of levels 2 and 3.
   EXPECT_EQ(others(greys(16, 4, "SHADING_RATE_SAMPLE"), {0.25f}), 0);
+  // The span is a tile's, whatever its texels: 8 texels a tile, 16 tiles (a tile
+  // 4 px across, λ = 1): half the bias, λ 0.5, the samples halfway to the centre
+  // (still one in each quarter): ½ · ½ + ½ · 0.1.
+  FabricTextureData coarse = DiffuseFabric(8, 3, glm::vec3(0.0f));
+  for (uint32_t level = 0; level < coarse.levels(); ++level)
+    for (uint32_t y = 0; y < coarse.LevelResolution(level); ++y)
+      for (uint32_t x = 0; x < coarse.LevelResolution(level); ++x)
+        coarse.Param(level, 0, x, y) = glm::vec4(glm::vec3(level == 0 ? float((x + y) % 2) : 0.1f * level), 0.0f);
+  std::swap(data, coarse);
+  EXPECT_EQ(others(greys(16, 4, "SHADING_RATE_SAMPLE"), {0.3f}), 0);
+  std::swap(data, coarse);
   // 32 tiles: λ = 4, a level-4 texel a pixel: every sample reads the pixel's texel,
   // also with the texels' edges a quarter pixel off the pixels' (not ¼ and ¾ of one
   // texel and the next, as the samples' own places would).
