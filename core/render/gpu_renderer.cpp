@@ -182,6 +182,7 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   SetUpLights(scene, BoundsOf(meshes), opaque_casters, cloth_casters, *shadows_, programs);
 
   const int samples = MsaaSamples(settings);
+  const bool per_sample = SampleShading(settings, samples);
   if (!target_ || target_->width() != width || target_->height() != height || target_->samples() != samples) {
     target_.reset();  // before the new one: at 1080p with 4× MSAA it holds about 200 MB
     target_ = std::make_unique<gl::Framebuffer>(width, height, samples);
@@ -218,7 +219,7 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     const GpuFabric* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
     if (fabric != nullptr) {
       cloth[i]->Use();
-      SetSampleShading(SampleShading(settings, samples));
+      SetSampleShading(per_sample);
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       fabric->Bind(*cloth[i], kFabricUnit, FabricRepeat(object));

@@ -54,7 +54,7 @@ vec4 ShadeFabric(vec2 uv, vec2 pixel_uv, vec3 position, vec3 normal, vec3 tangen
   vec2 tile = FabricTileOnGrid(uv, view, fragment.view_grid);
   // The footprint before the shading loop: derivatives are undefined inside it.
   FabricFootprint f = FabricLevels(tile);
-  tile = mix(tile, FabricTileOnGrid(pixel_uv, view, fragment.view_grid), f.centring);
+  tile += (pixel_uv - uv) * u_fabric_repeat * f.centring;  // the view's offset is the same at both
 #ifdef LOOM_ANISOTROPIC_LEVELS
   vec4 result = vec4(0.0);
   for (int i = 0; i < f.samples; ++i) {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <vector>
 #include <glm/gtc/constants.hpp>
 
@@ -408,22 +407,28 @@ TEST(SvbrdfFabric, LodBiasShiftsTheLevelWithinTheChainButNotLevelZeroOnly) {
 // quarter of the pixel) reads its own level-0 texel and the pixel resolves to their
 // mean, ½, the reference's box filter over the pixel.
 TEST(SvbrdfFabric, SampleShadingReadsEverySamplesTexelAtItsShareOfTheFootprint) {
-  // Levels 32, 16, 8, 4, 2, 1 texels; level 4 a checkerboard of 0 and 0.8.
-  FabricTextureData data = DiffuseFabric(32, 3, glm::vec3(0.0f));
-  for (uint32_t level = 0; level < data.levels(); ++level)
-    for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
-      for (uint32_t x = 0; x < data.LevelResolution(level); ++x) {
-        const float checker = float((x + y) % 2);
-        const float grey = level == 0 ? checker : level == 4 ? 0.8f * checker : 0.1f * level;
-        data.Param(level, 0, x, y) = glm::vec4(glm::vec3(grey), 0.0f);
-      }
-  // The greys inside the frame; the camera moved `shift` pixels along x.
-  const auto greys = [&](float repeat, int msaa, const char* rate, float shift = 0.0f) {
+  // `resolution` texels a tile, level 0 a checkerboard of 0 and 1, level L a grey
+  // 0.1·L, but level `checkered` a checkerboard of 0 and 0.8.
+  const auto fabric = [](uint32_t resolution, uint32_t checkered) {
+    FabricTextureData data = DiffuseFabric(resolution, 3, glm::vec3(0.0f));
+    for (uint32_t level = 0; level < data.levels(); ++level)
+      for (uint32_t y = 0; y < data.LevelResolution(level); ++y)
+        for (uint32_t x = 0; x < data.LevelResolution(level); ++x) {
+          const float checker = float((x + y) % 2);
+          const float grey = level == 0 ? checker : level == checkered ? 0.8f * checker : 0.1f * level;
+          data.Param(level, 0, x, y) = glm::vec4(glm::vec3(grey), 0.0f);
+        }
+    return data;
+  };
+  const FabricTextureData data = fabric(32, 4);  // levels 32, 16, 8, 4, 2, 1 texels
+  // The greys inside the frame of `cloth`; the camera moved `shift` pixels along x.
+  const auto greys = [](const FabricTextureData& cloth, float repeat, int msaa, const char* rate,
+                        float shift = 0.0f) {
     std::string scene = ClothScene(repeat, false, msaa, "LEVEL_MODE_TRILINEAR", 0.0f, 0.0f, rate);
     const std::string at = R"("position": {"x": 0,)";
     const std::string x = std::to_string(shift * 2.0f / 64.0f);
     scene.replace(scene.find(at), at.size(), R"("target": {"x": )" + x + R"(}, "position": {"x": )" + x + ",");
-    const Image image = RenderCloth(scene, data).image;
+    const Image image = RenderCloth(scene, cloth).image;
     std::vector<float> inside;
     for (int y = 8; y < 56; ++y)
       for (int x = 8; x < 56; ++x) inside.push_back(image.at(x, y, 0) / 2.0f);
@@ -437,28 +442,21 @@ TEST(SvbrdfFabric, SampleShadingReadsEverySamplesTexelAtItsShareOfTheFootprint) 
   };
   // 4 tiles over 64 px at 32 texels a tile: 2 level-0 texels a pixel, λ = 1. Once
   // per sample each sample reads its own level-0 texel: the pixel their mean.
-  EXPECT_EQ(others(greys(4, 4, "SHADING_RATE_PIXEL"), {0.1f}), 0);
-  EXPECT_EQ(others(greys(4, 4, "SHADING_RATE_SAMPLE"), {0.5f}), 0);
-  EXPECT_EQ(others(greys(4, 1, "SHADING_RATE_SAMPLE"), {0.1f}), 0);  // one sample: a pixel's shading
+  EXPECT_EQ(others(greys(data, 4, 4, "SHADING_RATE_PIXEL"), {0.1f}), 0);
+  EXPECT_EQ(others(greys(data, 4, 4, "SHADING_RATE_SAMPLE"), {0.5f}), 0);
+  EXPECT_EQ(others(greys(data, 4, 1, "SHADING_RATE_SAMPLE"), {0.1f}), 0);  // one sample: a pixel's shading
   // 16 tiles: λ = 3, half the bias: λ 2.5, between the greys of levels 2 and 3.
-  EXPECT_EQ(others(greys(16, 4, "SHADING_RATE_SAMPLE"), {0.25f}), 0);
+  EXPECT_EQ(others(greys(data, 16, 4, "SHADING_RATE_SAMPLE"), {0.25f}), 0);
   // The span is a tile's, whatever its texels: 8 texels a tile, 16 tiles (a tile
   // 4 px across, λ = 1): half the bias, λ 0.5, the samples halfway to the centre
   // (still one in each quarter): ½ · ½ + ½ · 0.1.
-  FabricTextureData coarse = DiffuseFabric(8, 3, glm::vec3(0.0f));
-  for (uint32_t level = 0; level < coarse.levels(); ++level)
-    for (uint32_t y = 0; y < coarse.LevelResolution(level); ++y)
-      for (uint32_t x = 0; x < coarse.LevelResolution(level); ++x)
-        coarse.Param(level, 0, x, y) = glm::vec4(glm::vec3(level == 0 ? float((x + y) % 2) : 0.1f * level), 0.0f);
-  std::swap(data, coarse);
-  EXPECT_EQ(others(greys(16, 4, "SHADING_RATE_SAMPLE"), {0.3f}), 0);
-  std::swap(data, coarse);
+  EXPECT_EQ(others(greys(fabric(8, 0), 16, 4, "SHADING_RATE_SAMPLE"), {0.3f}), 0);
   // 32 tiles: λ = 4, a level-4 texel a pixel: every sample reads the pixel's texel,
   // also with the texels' edges a quarter pixel off the pixels' (not ¼ and ¾ of one
   // texel and the next, as the samples' own places would).
   for (const float shift : {0.0f, 0.25f}) {
     for (const char* rate : {"SHADING_RATE_PIXEL", "SHADING_RATE_SAMPLE"}) {
-      const std::vector<float> values = greys(32, 4, rate, shift);
+      const std::vector<float> values = greys(data, 32, 4, rate, shift);
       EXPECT_EQ(others(values, {0.0f, 0.8f}), 0) << rate << " shifted " << shift;
       EXPECT_GT(std::count_if(values.begin(), values.end(), [](float v) { return v > 0.4f; }), 1000) << rate;
     }
