@@ -31,9 +31,12 @@ std::string ClassName(const FabricPlan& plan) {
 
 void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
   if (v.method != v1::FABRIC_METHOD_UNSPECIFIED) {
+    // The method at its own defaults but the baseline's texels, as the sweep measured it
+    // (lab/sweep_distill.cpp MethodVariation).
     v1::PrecomputeSettings method;
     method.set_method(v.method);
-    settings = WithDefaults(method);  // the method at its own defaults, as measured
+    method.set_spatial_resolution(settings.spatial_resolution());
+    settings = WithDefaults(method);
   }
   if (v.spatial_resolution != 0) settings.set_spatial_resolution(v.spatial_resolution);
   if (v.supersampling != 0) settings.set_supersampling(v.supersampling);

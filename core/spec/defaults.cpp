@@ -19,7 +19,8 @@ constexpr uint32_t kDefaultNeuralChannels = 8;
 constexpr uint32_t kDefaultNeuralHidden = 32;
 constexpr uint32_t kDefaultNeuralSteps = 100000;
 constexpr uint32_t kDefaultNeuralFrequencies = 2;
-constexpr uint32_t kDefaultTableViewDirections = 81;  // 9×9, for tabulated and factored
+constexpr uint32_t kDefaultTableViewDirections = 81;  // 9×9, for the table methods
+constexpr uint32_t kDefaultTableSpatialResolution = 64;
 
 // FabricSpec. Yarn radii are fractions of the loop width (knit) or yarn pitch (woven).
 constexpr float kDefaultKnitYarnRadius = 0.07f;
@@ -158,11 +159,16 @@ bool IsTableMethod(v1::FabricMethod method) {
 }
 
 v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings) {
-  if (settings.spatial_resolution() == 0) settings.set_spatial_resolution(kDefaultSpatialResolution);
   // The table methods interpolate the stored views themselves: an odd grid puts a view
-  // at the zenith, which head-on views then need not blend with parallax (docs/accuracy.md).
+  // at the zenith, which head-on views then need not blend with parallax; and they keep
+  // what a texel saw rather than a fit that smooths it, so finer texels pay off near by
+  // (docs/accuracy.md).
+  const bool table = IsTableMethod(settings.method());
+  if (settings.spatial_resolution() == 0) {
+    settings.set_spatial_resolution(table ? kDefaultTableSpatialResolution : kDefaultSpatialResolution);
+  }
   if (settings.view_directions() == 0) {
-    settings.set_view_directions(IsTableMethod(settings.method()) ? kDefaultTableViewDirections : kDefaultDirections);
+    settings.set_view_directions(table ? kDefaultTableViewDirections : kDefaultDirections);
   }
   if (settings.light_directions() == 0) settings.set_light_directions(kDefaultDirections);
   if (settings.lobes() == 0) settings.set_lobes(kDefaultLobes);

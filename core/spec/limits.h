@@ -43,9 +43,9 @@ inline constexpr uint32_t kMaxIndirectBounces = 2;
 // n×n rays per texel; 8×8 = 64 rays is far past visible convergence.
 inline constexpr uint32_t kMaxSupersampling = 8;
 // The tabulated method keeps every sample, per level, in memory, in its file and on
-// the GPU (RGB): at this cap ~200 MB each as 32-bit floats; factored and neural hold them
-// while they build. 64 views × 256 lights over 32² texels is exactly the cap.
-inline constexpr uint64_t kMaxTabulatedSamples = uint64_t{1} << 24;
+// the GPU (RGB): at this cap ~400 MB each as 32-bit floats; factored and neural hold them
+// while they build. Their defaults, 81 views × 64 lights over 64² texels, are ~0.63 of it.
+inline constexpr uint64_t kMaxTabulatedSamples = uint64_t{1} << 25;
 // The factored method's terms per texel: each costs a texture fetch per light and
 // fragment, and as much memory as the rank-1 asset.
 inline constexpr uint32_t kMaxFactoredRank = 8;

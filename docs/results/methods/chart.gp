@@ -4,7 +4,7 @@ set logscale x
 set grid
 set terminal pngcairo noenhanced size 1400,600 font ',10'
 set output 'error_vs_frame_time.png'
-set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural on view-depth planes; variations): error against frame time"
+set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural at 64 texels on view-depth planes; variations): error against frame time"
 set xlabel "frame time (ms, CPU wall, median over scenes, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -17,7 +17,7 @@ unset multiplot
 set output
 set terminal svg noenhanced size 1400,600 font ',10' background '#ffffff'
 set output 'error_vs_frame_time.svg'
-set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural on view-depth planes; variations): error against frame time"
+set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural at 64 texels on view-depth planes; variations): error against frame time"
 set xlabel "frame time (ms, CPU wall, median over scenes, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -30,7 +30,7 @@ unset multiplot
 set output
 set terminal pngcairo noenhanced size 1400,600 font ',10'
 set output 'error_vs_precompute_time.png'
-set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural on view-depth planes; variations): error against precompute time"
+set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural at 64 texels on view-depth planes; variations): error against precompute time"
 set xlabel "precompute time (s, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left
@@ -43,7 +43,7 @@ unset multiplot
 set output
 set terminal svg noenhanced size 1400,600 font ',10' background '#ffffff'
 set output 'error_vs_precompute_time.svg'
-set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural on view-depth planes; variations): error against precompute time"
+set multiplot layout 1,2 title "every fabric method on the 96 bench scenes (svbrdf = default; tabulated, factored, neural at 64 texels on view-depth planes; variations): error against precompute time"
 set xlabel "precompute time (s, log scale)"
 set ylabel "PSNR against the ground truth (dB, median over scenes)"
 set key top left

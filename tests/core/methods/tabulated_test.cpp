@@ -184,13 +184,15 @@ TEST(TabulatedKey, TheKeyChangesWithTheMethodAndIgnoresSvbrdfsFitSettings) {
 TEST(TabulatedKey, MoreSamplesThanTabulatedsCapAreRefused) {
   v1::PrecomputeSettings settings;
   settings.set_method(v1::FABRIC_METHOD_TABULATED);
-  settings.set_view_directions(64);
-  settings.set_light_directions(256);
-  EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());  // 32² × 64 × 256: the cap
-  settings.set_light_directions(324);
+  EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());  // the defaults, 64² × 81 × 64
+  settings.set_spatial_resolution(64);
+  settings.set_view_directions(81);
+  settings.set_light_directions(100);
+  EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());  // 64² × 81 × 100: 0.99 of the cap
+  settings.set_light_directions(121);
   const ValidationIssues issues = Validate(WithDefaults(settings), "precompute");
   ASSERT_EQ(issues.size(), 1u);
-  EXPECT_NE(issues[0].message.find("exceeds 16777216, the cap of the table methods"), std::string::npos) << issues[0].message;
+  EXPECT_NE(issues[0].message.find("exceeds 33554432, the cap of the table methods"), std::string::npos) << issues[0].message;
   settings.set_method(v1::FABRIC_METHOD_SVBRDF);
   EXPECT_TRUE(Validate(WithDefaults(settings), "precompute").empty());
 }

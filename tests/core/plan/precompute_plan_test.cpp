@@ -152,10 +152,13 @@ TEST(PrecomputePlan, ChoosesAnotherMethodAtItsDefaultsUnlessItsAssetGrowsTooMuch
   }();
   const FabricPlan fabric = PlanScene(scene, meshes, 0.5, {lobes1, tabulated, factored}).fabrics[0];
   EXPECT_EQ(fabric.chosen, (std::vector<std::string>{"factored"}));
+  // The method's own defaults but the baseline's texels, as the sweep measured it.
   v1::PrecomputeSettings expected;
   expected.set_method(v1::FABRIC_METHOD_FACTORED);
+  expected.set_spatial_resolution(32);
   EXPECT_EQ(fabric.settings.SerializeAsString(), WithDefaults(expected).SerializeAsString());
-  EXPECT_EQ(fabric.settings.view_directions(), 81u);  // the method's own defaults
+  EXPECT_EQ(fabric.settings.view_directions(), 81u);
+  EXPECT_EQ(fabric.settings.spatial_resolution(), 32u);
   EXPECT_NEAR(fabric.predicted_psnr_loss_db, 0.0, 1e-9);  // a gain on every scene counts as no loss
   bool said = false;
   for (const std::string& reason : fabric.reasons) {

@@ -554,6 +554,15 @@ TEST(Defaults, PrecomputeSettings) {
   EXPECT_EQ(s.supersampling(), 2u);
   EXPECT_TRUE(s.has_half_float() && s.half_float());
   EXPECT_EQ(s.seed(), 0u);
+  for (const v1::FabricMethod method :
+       {v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED, v1::FABRIC_METHOD_NEURAL}) {
+    v1::PrecomputeSettings table;
+    table.set_method(method);
+    table = WithDefaults(table);
+    EXPECT_EQ(table.spatial_resolution(), 64u) << v1::FabricMethod_Name(method);
+    EXPECT_EQ(table.view_directions(), 81u);
+    EXPECT_EQ(table.light_directions(), 64u);
+  }
 }
 
 TEST(Defaults, KnitFabric) {
