@@ -31,11 +31,13 @@ std::string ClassName(const FabricPlan& plan) {
 
 void Apply(const MeasuredVariation& v, v1::PrecomputeSettings& settings) {
   if (v.method != v1::FABRIC_METHOD_UNSPECIFIED) {
-    // The method at its own defaults but the baseline's texels, as the sweep measured it
-    // (lab/sweep_distill.cpp MethodVariation).
+    // The method at its own defaults but the baseline's texels, lights and rays, as the
+    // sweep measured it (lab/sweep_distill.cpp MethodVariation).
     v1::PrecomputeSettings method;
     method.set_method(v.method);
     method.set_spatial_resolution(settings.spatial_resolution());
+    method.set_light_directions(settings.light_directions());
+    method.set_supersampling(settings.supersampling());
     settings = WithDefaults(method);
   }
   if (v.spatial_resolution != 0) settings.set_spatial_resolution(v.spatial_resolution);
