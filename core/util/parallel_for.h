@@ -24,6 +24,15 @@ unsigned ResolveThreadCount(unsigned threads);
 void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t item, unsigned worker)>& body,
                  const std::function<void(size_t done)>& progress = {});
 
+// `rounds` rounds of a loop whose rounds depend on each other (training steps), on
+// `threads` threads started once rather than once a round: in round r, prepare(r)
+// on the calling thread, then body(r, item, worker) for every item in [0, count) as
+// ParallelFor does, then finish(r) on the calling thread. The first exception thrown
+// by any of them ends the loop after the round's started items and is rethrown.
+void ParallelRounds(size_t rounds, size_t count, unsigned threads, const std::function<void(size_t round)>& prepare,
+                    const std::function<void(size_t round, size_t item, unsigned worker)>& body,
+                    const std::function<void(size_t round)>& finish);
+
 // One counter per worker (e.g. rays cast), each on its own cache line so that
 // workers counting in their hot loops do not contend.
 class PerWorkerCount {

@@ -72,6 +72,9 @@ class Adam {
     ++t_;
     const float c1 = 1.0f - std::pow(kBeta1, static_cast<float>(t_));
     const float c2 = 1.0f - std::pow(kBeta2, static_cast<float>(t_));
+    // A loop the compiler vectorises, square root included (this file is compiled
+    // with -fno-math-errno; Eigen's own square root is an approximation under its
+    // EIGEN_FAST_MATH default).
     for (size_t i = 0; i < parameters.size(); ++i) {
       m_[i] = kBeta1 * m_[i] + (1.0f - kBeta1) * gradient[i];
       v_[i] = kBeta2 * v_[i] + (1.0f - kBeta2) * gradient[i] * gradient[i];
@@ -228,66 +231,82 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   std::vector<float> gradient(count);
   std::vector<Sample> batch(kNeuralBatch);
   constexpr uint32_t chunk = kNeuralBatch / kChunks;
-  std::vector<std::vector<float>> chunk_decoder(kChunks, std::vector<float>(decoder_count));
-  std::vector<Matrix> chunk_latent(kChunks);  // C × chunk: each sample's latent gradient
+  // Each chunk's inputs, activations and gradients, kept from step to step.
+  struct Chunk {
+    Matrix x, target, gain, d1, d2, d3;
+    Activations a;
+    std::vector<float> decoder;  // the decoder's gradient
+    Matrix latent;               // C × chunk: each sample's latent gradient
+  };
+  std::vector<Chunk> chunks(kChunks);
+  for (Chunk& c : chunks) {
+    c.x.resize(o.n, chunk);
+    c.target.resize(3, chunk);
+    c.gain.resize(3, chunk);
+    c.decoder.resize(decoder_count);
+  }
   const uint32_t report = std::max<uint32_t>(training.steps / 100, 1);
-  for (uint32_t step = 0; step < training.steps; ++step) {
-    // Every level drawn equally often: the coarse levels, which distant cloth shows,
-    // get as much of the shared decoder's attention as the finest (docs/methods.md).
+  // Every level drawn equally often: the coarse levels, which distant cloth shows,
+  // get as much of the shared decoder's attention as the finest (docs/methods.md).
+  const auto draw_batch = [&](size_t) {
     for (Sample& s : batch) {
       s.level = draw.Below(table.levels.size());
       s.texel = draw.Below(table.levels[s.level].texel_count());
       s.view = draw.Below(views);
       s.light = draw.Below(lights);
     }
-    ParallelFor(kChunks, threads, [&](size_t k, unsigned) {
-      Matrix x(o.n, chunk), target(3, chunk), gain(3, chunk);
-      for (uint32_t s = 0; s < chunk; ++s) {
-        const Sample& sample = batch[k * chunk + s];
-        const float* z = &theta[latent_start[sample.level] + size_t{sample.texel} * channels];
-        for (uint32_t c = 0; c < channels; ++c) x(c, s) = z[c];
-        std::copy_n(&encodings[(size_t{sample.view} * lights + sample.light) * encoding_size], encoding_size,
-                    &x(channels, s));
-        const TabulatedLevel& level = table.levels[sample.level];
-        const size_t pair = size_t{sample.texel} * views + sample.view;
-        const glm::vec3 t = level.radiance[pair * lights + sample.light];
-        const glm::vec3 a = level.ambient[pair] / std::numbers::pi_v<float>;
-        target.col(s) << t.x, t.y, t.z;
-        gain.col(s) << a.x, a.y, a.z;
-      }
-      Activations a;
-      Forward(theta.data(), o, x, a);
-      // Loss: the mean squared error of gain ⊙ f over the batch's samples and channels.
-      const Matrix d3 =
-          (gain.cwiseProduct(a.y) - target).cwiseProduct(gain) * (2.0f / (3.0f * kNeuralBatch));
-      float* g = chunk_decoder[k].data();
-      WeightGradients(g + o.w3, 3, o.h).noalias() = d3 * a.h2.transpose();
-      BiasGradient(g + o.b3, 3) = d3.rowwise().sum();
-      const Matrix d2 = (Weights(theta.data() + o.w3, 3, o.h).transpose() * d3)
-                            .cwiseProduct((a.h2.array() > 0.0f).cast<float>().matrix());
-      WeightGradients(g + o.w2, o.h, o.h).noalias() = d2 * a.h1.transpose();
-      BiasGradient(g + o.b2, o.h) = d2.rowwise().sum();
-      const Matrix d1 = (Weights(theta.data() + o.w2, o.h, o.h).transpose() * d2)
-                            .cwiseProduct((a.h1.array() > 0.0f).cast<float>().matrix());
-      WeightGradients(g + o.w1, o.h, o.n).noalias() = d1 * x.transpose();
-      BiasGradient(g + o.b1, o.h) = d1.rowwise().sum();
-      chunk_latent[k].noalias() =
-          Weights(theta.data() + o.w1, o.h, o.n).leftCols(channels).transpose() * d1;
-    });
+  };
+  const auto chunk_gradient = [&](size_t, size_t k, unsigned) {
+    Chunk& scratch = chunks[k];
+    Matrix &x = scratch.x, &target = scratch.target, &gain = scratch.gain;
+    for (uint32_t s = 0; s < chunk; ++s) {
+      const Sample& sample = batch[k * chunk + s];
+      const float* z = &theta[latent_start[sample.level] + size_t{sample.texel} * channels];
+      for (uint32_t c = 0; c < channels; ++c) x(c, s) = z[c];
+      std::copy_n(&encodings[(size_t{sample.view} * lights + sample.light) * encoding_size], encoding_size,
+                  &x(channels, s));
+      const TabulatedLevel& level = table.levels[sample.level];
+      const size_t pair = size_t{sample.texel} * views + sample.view;
+      const glm::vec3 t = level.radiance[pair * lights + sample.light];
+      const glm::vec3 a = level.ambient[pair] / std::numbers::pi_v<float>;
+      target.col(s) << t.x, t.y, t.z;
+      gain.col(s) << a.x, a.y, a.z;
+    }
+    Activations& a = scratch.a;
+    Forward(theta.data(), o, x, a);
+    // Loss: the mean squared error of gain ⊙ f over the batch's samples and channels.
+    Matrix &d1 = scratch.d1, &d2 = scratch.d2, &d3 = scratch.d3;
+    d3 = (gain.cwiseProduct(a.y) - target).cwiseProduct(gain) * (2.0f / (3.0f * kNeuralBatch));
+    float* g = scratch.decoder.data();
+    WeightGradients(g + o.w3, 3, o.h).noalias() = d3 * a.h2.transpose();
+    BiasGradient(g + o.b3, 3) = d3.rowwise().sum();
+    d2 = (Weights(theta.data() + o.w3, 3, o.h).transpose() * d3)
+             .cwiseProduct((a.h2.array() > 0.0f).cast<float>().matrix());
+    WeightGradients(g + o.w2, o.h, o.h).noalias() = d2 * a.h1.transpose();
+    BiasGradient(g + o.b2, o.h) = d2.rowwise().sum();
+    d1 = (Weights(theta.data() + o.w2, o.h, o.h).transpose() * d2)
+             .cwiseProduct((a.h1.array() > 0.0f).cast<float>().matrix());
+    WeightGradients(g + o.w1, o.h, o.n).noalias() = d1 * x.transpose();
+    BiasGradient(g + o.b1, o.h) = d1.rowwise().sum();
+    scratch.latent.noalias() = Weights(theta.data() + o.w1, o.h, o.n).leftCols(channels).transpose() * d1;
+  };
+  // The chunks' gradients summed in chunk order, whatever thread computed them.
+  const auto descend = [&](size_t step) {
     std::fill(gradient.begin(), gradient.end(), 0.0f);
     for (uint32_t k = 0; k < kChunks; ++k) {
-      for (size_t i = 0; i < decoder_count; ++i) gradient[i] += chunk_decoder[k][i];
+      for (size_t i = 0; i < decoder_count; ++i) gradient[i] += chunks[k].decoder[i];
       for (uint32_t s = 0; s < chunk; ++s) {
         const Sample& sample = batch[k * chunk + s];
         float* g = &gradient[latent_start[sample.level] + size_t{sample.texel} * channels];
-        for (uint32_t c = 0; c < channels; ++c) g[c] += chunk_latent[k](c, s);
+        for (uint32_t c = 0; c < channels; ++c) g[c] += chunks[k].latent(c, s);
       }
     }
     const float progress_fraction = static_cast<float>(step) / static_cast<float>(training.steps);
     const float rate = kRate * (0.05f + 0.95f * 0.5f * (1.0f + std::cos(std::numbers::pi_v<float> * progress_fraction)));
     adam.Step(theta, gradient, rate);
-    if (progress && (step + 1) % report == 0) progress(0.9 * (step + 1) / training.steps);
-  }
+    if (progress && (step + 1) % report == 0) progress(0.9 * double(step + 1) / training.steps);
+  };
+  ParallelRounds(training.steps, kChunks, threads, draw_batch, chunk_gradient, descend);
 
   fabric.decoder.parameters.assign(theta.begin(), theta.begin() + std::ptrdiff_t(decoder_count));
   for (size_t j = 0; j < table.levels.size(); ++j) {
