@@ -15,29 +15,24 @@ namespace {
 
 using Matrix = Eigen::MatrixXd;
 
-// One texel's channel: the top `rank` singular triplets of its V×L table M, from the
-// eigenvectors of M·Mᵀ (V×V), so
-// A_k = √σ_k u_k and B_k = Mᵀ u_k / √σ_k = √σ_k v_k. Returns the squared residual
-// ‖M‖² − Σ σ_k².
-double FactorChannel(const Matrix& table, uint32_t rank, Matrix& view_terms, Matrix& light_terms) {
+// The top `rank` singular triplets of a V×L table M, from the eigenvectors of M·Mᵀ
+// (V×V), so a_k = √σ_k u_k and b_k = Mᵀ u_k / √σ_k = √σ_k v_k.
+void FactorTable(const Matrix& table, uint32_t rank, Matrix& view_terms, Matrix& light_terms) {
   const Matrix gram = table * table.transpose();
   const Eigen::SelfAdjointEigenSolver<Matrix> eigen(gram);
   const Eigen::Index views = table.rows();
   view_terms.setZero(views, rank);
   light_terms.setZero(table.cols(), rank);
-  double kept = 0.0;
   for (uint32_t k = 0; k < rank; ++k) {
     const Eigen::Index column = views - 1 - static_cast<Eigen::Index>(k);  // eigenvalues ascend
     const double lambda = eigen.eigenvalues()(column);
     if (!(lambda > 1e-20)) break;
-    kept += lambda;
     Eigen::VectorXd u = eigen.eigenvectors().col(column);
     if (u.sum() < 0.0) u = -u;  // a sign per term, the same on every run
     const double scale = std::sqrt(std::sqrt(lambda));  // √σ
     view_terms.col(k) = scale * u;
     light_terms.col(k) = table.transpose() * u / scale;
   }
-  return std::max(table.squaredNorm() - kept, 0.0);
 }
 
 FactoredLevel FactorLevel(const TabulatedLevel& tabulated, uint32_t rank, size_t views, size_t lights,
@@ -45,35 +40,47 @@ FactoredLevel FactorLevel(const TabulatedLevel& tabulated, uint32_t rank, size_t
   FactoredLevel level;
   level.resolution = tabulated.resolution;
   level.alpha = tabulated.alpha;
+  level.ambient = tabulated.ambient;
   const size_t texels = tabulated.texel_count();
-  level.view_terms.assign(texels * rank * views, glm::vec3(0.0f));
-  level.light_terms.assign(texels * rank * lights, glm::vec3(0.0f));
-  level.ambient.assign(texels * views, glm::vec3(0.0f));
+  level.view_terms.assign(texels * rank * views, 0.0f);
+  level.light_terms.assign(texels * rank * lights, 0.0f);
   std::vector<double> residual(texels, 0.0), total(texels, 0.0);
-  const float solid_angle = 2.0f * std::numbers::pi_v<float> / static_cast<float>(lights);
+  const auto V = static_cast<Eigen::Index>(views), L = static_cast<Eigen::Index>(lights);
   ParallelFor(texels, threads, [&](size_t texel, unsigned) {
-    Matrix table(static_cast<Eigen::Index>(views), static_cast<Eigen::Index>(lights));
+    const auto gain = [&](Eigen::Index v) {
+      return glm::dvec3(tabulated.ambient[texel * views + size_t(v)]) / std::numbers::pi;
+    };
+    const auto target = [&](Eigen::Index v, Eigen::Index l) {
+      return glm::dvec3(tabulated.radiance[(texel * views + size_t(v)) * lights + size_t(l)]);
+    };
+    // Row v of the weighted shape: |g|·(g·L)/|g|² = ĝ·L, g = A(v)/π; views that
+    // see (next to) nothing get no terms.
+    Eigen::VectorXd weight(V);
+    for (Eigen::Index v = 0; v < V; ++v) weight(v) = glm::length(gain(v));
+    const double floor = 1e-6 * weight.maxCoeff();
+    Matrix shape = Matrix::Zero(V, L);
+    for (Eigen::Index v = 0; v < V; ++v) {
+      if (!(weight(v) > floor)) continue;
+      const glm::dvec3 direction = gain(v) / weight(v);
+      for (Eigen::Index l = 0; l < L; ++l) shape(v, l) = glm::dot(direction, target(v, l));
+    }
     Matrix a, b;
-    for (int c = 0; c < 3; ++c) {
-      for (size_t view = 0; view < views; ++view) {
-        for (size_t light = 0; light < lights; ++light) {
-          table(Eigen::Index(view), Eigen::Index(light)) = tabulated.radiance[(texel * views + view) * lights + light][c];
-        }
-      }
-      residual[texel] += FactorChannel(table, rank, a, b);
-      total[texel] += table.sum();
-      for (uint32_t k = 0; k < rank; ++k) {
-        const size_t term = texel * rank + k;
-        float light_sum = 0.0f;
-        for (size_t light = 0; light < lights; ++light) {
-          level.light_terms[term * lights + light][c] = static_cast<float>(b(Eigen::Index(light), k));
-          light_sum += static_cast<float>(b(Eigen::Index(light), k));
-        }
-        for (size_t view = 0; view < views; ++view) {
-          const float value = static_cast<float>(a(Eigen::Index(view), k));
-          level.view_terms[term * views + view][c] = value;
-          level.ambient[texel * views + view][c] += solid_angle * value * light_sum;
-        }
+    FactorTable(shape, rank, a, b);
+    for (Eigen::Index v = 0; v < V; ++v) {
+      a.row(v) *= weight(v) > floor ? 1.0 / weight(v) : 0.0;
+    }
+    for (uint32_t k = 0; k < rank; ++k) {
+      const size_t term = texel * rank + k;
+      for (Eigen::Index v = 0; v < V; ++v) level.view_terms[term * views + size_t(v)] = static_cast<float>(a(v, k));
+      for (Eigen::Index l = 0; l < L; ++l) level.light_terms[term * lights + size_t(l)] = static_cast<float>(b(l, k));
+    }
+    // The error as rendered: the stored (single) precision, the clamp at 0.
+    const Matrix product = a.cast<float>().cast<double>() * b.cast<float>().cast<double>().transpose();
+    for (Eigen::Index v = 0; v < V; ++v) {
+      for (Eigen::Index l = 0; l < L; ++l) {
+        const glm::dvec3 d = gain(v) * std::max(product(v, l), 0.0) - target(v, l);
+        residual[texel] += glm::dot(d, d);
+        total[texel] += target(v, l).x + target(v, l).y + target(v, l).z;
       }
     }
   });
@@ -109,17 +116,19 @@ glm::vec4 EvaluateFactored(const FactoredFabric& fabric, uint32_t level_index, s
   const uint32_t light_side = GridSide(lights);
   const GridPoint v = LocateOnGrid(view, view_side);
   const GridPoint l = LocateOnGrid(light, light_side);
-  glm::vec3 sum(0.0f);
+  float sum = 0.0f;
   for (uint32_t k = 0; k < fabric.rank; ++k) {
     const size_t term = texel * fabric.rank + k;
-    const glm::vec3 a =
-        Bilinear<glm::vec3>(v, view_side, [&](size_t stored) { return level.view_terms[term * views + stored]; });
-    const glm::vec3 b =
-        Bilinear<glm::vec3>(l, light_side, [&](size_t stored) { return level.light_terms[term * lights + stored]; });
+    const float a = Bilinear<float>(v, view_side, [&](size_t stored) { return level.view_terms[term * views + stored]; });
+    const float b =
+        Bilinear<float>(l, light_side, [&](size_t stored) { return level.light_terms[term * lights + stored]; });
     sum += a * b;
   }
+  const glm::vec3 gain =
+      Bilinear<glm::vec3>(v, view_side, [&](size_t stored) { return level.ambient[texel * views + stored]; }) /
+      std::numbers::pi_v<float>;
   const float alpha = Bilinear<float>(v, view_side, [&](size_t stored) { return level.alpha[texel * views + stored]; });
-  return {LightWeight(light, l) * glm::max(sum, glm::vec3(0.0f)), glm::mix(alpha, 1.0f, v.beyond_ring)};
+  return {LightWeight(light, l) * gain * std::max(sum, 0.0f), glm::mix(alpha, 1.0f, v.beyond_ring)};
 }
 
 }  // namespace loom

@@ -1,10 +1,14 @@
 #pragma once
-// The factored method's data: per level, texel and colour channel, the tabulated
-// radiance (tabulated_fabric.h) approximated by K separable terms,
-// L(v, l) ≈ Σ_k A_k(v) · B_k(l): the truncated SVD of the texel's V×L table, each
-// singular value split evenly between its view table A_k and light table B_k.
-// EvaluateFactored is the renderer's lookup in C++: A_k and B_k bilinear between
-// stored directions, the sum clamped at 0. Derivation: docs/methods.md "factored".
+// The factored method's data: per level and texel, the tabulated radiance
+// (tabulated_fabric.h) as the texel's ambient response A(v) (RGB, per stored view:
+// 2π/L·Σ_l L(v, l), the table's own, as the neural method's gain) times a shape
+// that K separable terms hold, L(v, l) ≈ A(v)/π ⊙ max(0, Σ_k a_k(v)·b_k(l)): one
+// view table a_k and one light table b_k per term, shared by the three colour
+// channels. The shape is the truncated SVD of the texel's V×L table of
+// A(v)·L(v, l)/|A(v)|² (the colour's least-squares projection on A), rows weighted
+// by |A(v)| so that it minimises the error in radiance. EvaluateFactored is the
+// renderer's lookup in C++: A, a_k and b_k bilinear between stored directions.
+// Derivation: docs/methods.md "factored".
 
 #include <cstdint>
 #include <functional>
@@ -18,12 +22,12 @@ namespace loom {
 struct FactoredLevel {
   uint32_t resolution = 0;
   // Texel (x, y) is index y·resolution + x.
-  std::vector<glm::vec3> view_terms;   // A: [(texel·K + k)·V + view], RGB
-  std::vector<glm::vec3> light_terms;  // B: [(texel·K + k)·L + light], RGB
-  std::vector<float> alpha;            // [texel·V + view]
-  std::vector<glm::vec3> ambient;      // [texel·V + view]
-  // RMSE of the rank-K table against the tabulated one over every (texel, view,
-  // light, channel), over their mean: what the factorisation loses.
+  std::vector<float> view_terms;   // a: [(texel·K + k)·V + view]
+  std::vector<float> light_terms;  // b: [(texel·K + k)·L + light]
+  std::vector<float> alpha;        // [texel·V + view]
+  std::vector<glm::vec3> ambient;  // [texel·V + view]: A
+  // RMSE of the factored table (A/π ⊙ max(0, Σ a·b)) against the tabulated one over
+  // every (texel, view, light, channel), over their mean: what the factorisation loses.
   double relative_rmse = 0.0;
 
   size_t texel_count() const { return size_t{resolution} * resolution; }

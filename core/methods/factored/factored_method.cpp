@@ -27,21 +27,23 @@ constexpr const char* kViewTermsFile = "view_terms.exr";
 constexpr const char* kLightTermsFile = "light_terms.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
-// 1: the first layout.
-constexpr uint32_t kFactoredFormatVersion = 2;
+// 1: the first layout. 2: view-depth sampling planes. 3: the shape's terms, one
+// channel each, times the table's ambient response.
+constexpr uint32_t kFactoredFormatVersion = 3;
 
-// The terms of one level over one grid (`count` stored directions), layer-major:
-// layer k is term k's direction atlas, RGB floats. `terms` is [(texel·K + k)·count + d].
-std::vector<std::vector<float>> TermLayers(const std::vector<glm::vec3>& terms, uint32_t rank, uint32_t resolution,
+// The terms of one level over one grid (`count` stored directions), four to an RGBA
+// layer: layer j is terms 4j … 4j + 3's direction atlas (zeros past the rank). `terms`
+// is [(texel·K + k)·count + d].
+std::vector<std::vector<float>> TermLayers(const std::vector<float>& terms, uint32_t rank, uint32_t resolution,
                                            size_t count) {
   const uint32_t k = GridSide(count);
   const size_t texels = size_t{resolution} * resolution;
-  std::vector<std::vector<float>> layers(rank, std::vector<float>(texels * count * 3));
+  std::vector<std::vector<float>> layers((rank + 3) / 4, std::vector<float>(texels * count * 4, 0.0f));
   for (size_t texel = 0; texel < texels; ++texel) {
     for (uint32_t term = 0; term < rank; ++term) {
       for (size_t d = 0; d < count; ++d) {
-        const glm::vec3 value = terms[(texel * rank + term) * count + d];
-        std::copy_n(&value[0], 3, &layers[term][DirectionAtlasPixel(texel, resolution, d, k) * 3]);
+        layers[term / 4][DirectionAtlasPixel(texel, resolution, d, k) * 4 + term % 4] =
+            terms[(texel * rank + term) * count + d];
       }
     }
   }
@@ -50,41 +52,40 @@ std::vector<std::vector<float>> TermLayers(const std::vector<glm::vec3>& terms, 
 
 std::vector<std::string> TermChannels(char name, uint32_t rank) {
   std::vector<std::string> channels;
-  for (uint32_t term = 0; term < rank; ++term) {
-    for (const char* c : {"R", "G", "B"}) channels.push_back(name + std::to_string(term) + "." + c);
-  }
+  for (uint32_t term = 0; term < rank; ++term) channels.push_back(name + std::to_string(term));
   return channels;
 }
 
-// One image of every level's terms over one grid, the layers interleaved as channels.
+// One image of every level's terms over one grid, a channel per term.
 template <typename Terms>
 LevelImage TermImage(const FactoredFabric& fabric, char name, size_t count, const Terms& terms_of) {
   LevelImage image{TermChannels(name, fabric.rank), {}, {}};
+  const uint32_t k = GridSide(count);
   for (const FactoredLevel& level : fabric.levels) {
-    const auto layers = TermLayers(terms_of(level), fabric.rank, level.resolution, count);
-    const size_t pixels = layers.empty() ? 0 : layers[0].size() / 3;
-    std::vector<float>& out = image.pixels.emplace_back(pixels * 3 * fabric.rank);
-    for (size_t p = 0; p < pixels; ++p) {
+    const std::vector<float>& terms = terms_of(level);
+    std::vector<float>& out = image.pixels.emplace_back(level.texel_count() * count * fabric.rank);
+    for (size_t texel = 0; texel < level.texel_count(); ++texel) {
       for (uint32_t term = 0; term < fabric.rank; ++term) {
-        std::copy_n(&layers[term][p * 3], 3, &out[(p * fabric.rank + term) * 3]);
+        for (size_t d = 0; d < count; ++d) {
+          out[DirectionAtlasPixel(texel, level.resolution, d, k) * fabric.rank + term] =
+              terms[(texel * fabric.rank + term) * count + d];
+        }
       }
     }
-    image.sides.push_back(static_cast<int>(level.resolution * GridSide(count)));
+    image.sides.push_back(static_cast<int>(level.resolution * k));
   }
   return image;
 }
 
 // The inverse of TermImage for one level's pixels.
-std::vector<glm::vec3> TermsFromImage(const std::vector<float>& pixels, uint32_t rank, uint32_t resolution,
-                                      size_t count) {
+std::vector<float> TermsFromImage(const std::vector<float>& pixels, uint32_t rank, uint32_t resolution, size_t count) {
   const uint32_t k = GridSide(count);
   const size_t texels = size_t{resolution} * resolution;
-  std::vector<glm::vec3> terms(texels * rank * count);
+  std::vector<float> terms(texels * rank * count);
   for (size_t texel = 0; texel < texels; ++texel) {
     for (uint32_t term = 0; term < rank; ++term) {
       for (size_t d = 0; d < count; ++d) {
-        const float* value = &pixels[(DirectionAtlasPixel(texel, resolution, d, k) * rank + term) * 3];
-        terms[(texel * rank + term) * count + d] = glm::vec3(value[0], value[1], value[2]);
+        terms[(texel * rank + term) * count + d] = pixels[DirectionAtlasPixel(texel, resolution, d, k) * rank + term];
       }
     }
   }
@@ -99,16 +100,16 @@ class FactoredTextures final : public GpuFabric {
                  fabric.view_heights},
         rank_(static_cast<int>(fabric.rank)),
         views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
-        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 3, half, rank_),
-        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 3, half, rank_) {
+        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half, (rank_ + 3) / 4),
+        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 4, half, (rank_ + 3) / 4) {
     for (int level = 0; level < surface_.levels(); ++level) {
       const FactoredLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
       const auto a = TermLayers(data.view_terms, fabric.rank, data.resolution, fabric.view_count());
       const auto b = TermLayers(data.light_terms, fabric.rank, data.resolution, fabric.light_count());
-      for (int term = 0; term < rank_; ++term) {
-        view_terms_.Upload(level, a[static_cast<size_t>(term)].data(), term);
-        light_terms_.Upload(level, b[static_cast<size_t>(term)].data(), term);
+      for (size_t layer = 0; layer < a.size(); ++layer) {
+        view_terms_.Upload(level, a[layer].data(), static_cast<int>(layer));
+        light_terms_.Upload(level, b[layer].data(), static_cast<int>(layer));
       }
     }
   }
@@ -226,8 +227,8 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
   std::filesystem::create_directories(directory);
-  const auto view_terms = [](const FactoredLevel& level) -> const std::vector<glm::vec3>& { return level.view_terms; };
-  const auto light_terms = [](const FactoredLevel& level) -> const std::vector<glm::vec3>& { return level.light_terms; };
+  const auto view_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.view_terms; };
+  const auto light_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.light_terms; };
   const std::string a_sha =
       WriteLevelImage(TermImage(fabric_, 'a', fabric_.view_count(), view_terms), directory / kViewTermsFile, half);
   const std::string b_sha =

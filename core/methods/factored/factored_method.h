@@ -1,16 +1,17 @@
 #pragma once
-// The factored method (core/methods/fabric_method.h): per texel and level, K view
-// tables times K light tables (factored_fabric.h), shaded by
-// core/shaders/factored.glsl.
+// The factored method (core/methods/fabric_method.h): per texel and level, the
+// ambient response times K view tables times K light tables (factored_fabric.h),
+// shaded by core/shaders/factored.glsl.
 //
 // Asset directory:
-//   view_terms.exr   A_k, channels a<k>.{R,G,B}: MIP level ℓ is level ℓ's direction
-//                    atlas over the views, (res_ℓ·k)² (asset_files.h DirectionAtlasPixel)
-//   light_terms.exr  B_k, channels b<k>.{R,G,B}: the same over the lights, (res_ℓ·k_l)²
-//   views.exr        the view atlas: ambient response RGB, alpha A
+//   view_terms.exr   a_k, channel a<k>: MIP level ℓ is level ℓ's direction atlas over
+//                    the views, (res_ℓ·k)² (asset_files.h DirectionAtlasPixel)
+//   light_terms.exr  b_k, channel b<k>: the same over the lights, (res_ℓ·k_l)²
+//   views.exr        the view atlas: ambient response (RGB), coverage alpha (A)
 //   manifest.json    method, asset version, key, settings, rank, sizes, per-level
 //                    factorisation error, checksums (last)
-// Half floats with settings.half_float, full floats otherwise, on disk and on the GPU.
+// Half floats with settings.half_float, full floats otherwise, on disk and on the GPU
+// (there four terms to an RGBA layer of a texture array).
 
 #include "core/methods/factored/factored_fabric.h"
 #include "core/methods/fabric_method.h"
