@@ -14,6 +14,35 @@ unsigned ResolveThreadCount(unsigned threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
+namespace {
+
+// The threads a loop over `count` items runs on.
+unsigned LoopThreads(unsigned threads, size_t count) {
+  return static_cast<unsigned>(std::min<size_t>(ResolveThreadCount(threads), std::max<size_t>(count, 1)));
+}
+
+// The first exception any thread of a loop threw, and whether the loop should stop.
+class FirstFailure {
+ public:
+  // From a catch block.
+  void Catch() {
+    const std::lock_guard lock(mutex_);
+    if (!failure_) failure_ = std::current_exception();
+    stop_ = true;
+  }
+  bool stopped() const { return stop_; }
+  void RethrowIfAny() const {
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::exception_ptr failure_;
+};
+
+}  // namespace
+
 uint64_t PerWorkerCount::Total() const {
   uint64_t total = 0;
   for (const Padded& count : counts_) total += count.value;
@@ -22,24 +51,17 @@ uint64_t PerWorkerCount::Total() const {
 
 void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t, unsigned)>& body,
                  const std::function<void(size_t)>& progress) {
-  threads = static_cast<unsigned>(std::min<size_t>(ResolveThreadCount(threads), std::max<size_t>(count, 1)));
+  threads = LoopThreads(threads, count);
   std::atomic<size_t> next{0};
   std::atomic<size_t> done{0};
-  std::atomic<bool> stop{false};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto fail = [&] {
-    const std::lock_guard lock(failure_mutex);
-    if (!failure) failure = std::current_exception();
-    stop = true;
-  };
+  FirstFailure failure;
 
   // Runs items until none are left; the calling thread (worker 0) also reports.
   auto work = [&](unsigned worker) {
     const size_t step = std::max<size_t>(count / 100, 1);
     size_t reported = 0;
     try {
-      for (size_t item; !stop && (item = next++) < count;) {
+      for (size_t item; !failure.stopped() && (item = next++) < count;) {
         body(item, worker);
         const size_t now = ++done;
         if (worker == 0 && progress && now >= reported + step) {
@@ -48,7 +70,7 @@ void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t
         }
       }
     } catch (...) {
-      fail();
+      failure.Catch();
     }
   };
 
@@ -57,29 +79,22 @@ void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t
   for (unsigned worker = 1; worker < threads; ++worker) pool.emplace_back(work, worker);
   work(0);
   for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
+  failure.RethrowIfAny();
   if (progress) progress(count);
 }
 
 void ParallelRounds(size_t rounds, size_t count, unsigned threads, const std::function<void(size_t)>& prepare,
                     const std::function<void(size_t, size_t, unsigned)>& body,
                     const std::function<void(size_t)>& finish) {
-  threads = static_cast<unsigned>(std::min<size_t>(ResolveThreadCount(threads), std::max<size_t>(count, 1)));
+  threads = LoopThreads(threads, count);
   std::atomic<size_t> next{0};
-  std::atomic<bool> stop{false};
   bool quit = false;  // written by the calling thread before it arrives at the round's first barrier
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto fail = [&] {
-    const std::lock_guard lock(failure_mutex);
-    if (!failure) failure = std::current_exception();
-    stop = true;
-  };
+  FirstFailure failure;
   auto items = [&](size_t round, unsigned worker) {
     try {
-      for (size_t item; !stop && (item = next++) < count;) body(round, item, worker);
+      for (size_t item; !failure.stopped() && (item = next++) < count;) body(round, item, worker);
     } catch (...) {
-      fail();
+      failure.Catch();
     }
   };
 
@@ -98,28 +113,28 @@ void ParallelRounds(size_t rounds, size_t count, unsigned threads, const std::fu
       }
     });
   }
-  for (size_t round = 0; round < rounds && !stop; ++round) {
+  for (size_t round = 0; round < rounds && !failure.stopped(); ++round) {
     try {
       prepare(round);
     } catch (...) {
-      fail();
+      failure.Catch();
       break;
     }
     next = 0;
     sync.arrive_and_wait();
     items(round, 0);
     sync.arrive_and_wait();
-    if (stop) break;
+    if (failure.stopped()) break;
     try {
       finish(round);
     } catch (...) {
-      fail();
+      failure.Catch();
     }
   }
   quit = true;
   sync.arrive_and_wait();
   for (std::thread& thread : team) thread.join();
-  if (failure) std::rethrow_exception(failure);
+  failure.RethrowIfAny();
 }
 
 }  // namespace loom
