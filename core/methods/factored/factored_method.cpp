@@ -31,24 +31,27 @@ constexpr const char* kManifestFile = "manifest.json";
 // channel each, times the table's ambient response.
 constexpr uint32_t kFactoredFormatVersion = 3;
 
-// The terms of one level over one grid (`count` stored directions), four to an RGBA
-// layer: layer j is terms 4j … 4j + 3's direction atlas (zeros past the rank). `terms`
-// is [(texel·K + k)·count + d].
-std::vector<std::vector<float>> TermLayers(const std::vector<float>& terms, uint32_t rank, uint32_t resolution,
-                                           size_t count) {
+// Terms first … first + channels − 1 of one level over one grid (`count` stored
+// directions) as one direction atlas of `channels` channels, zeros past the rank.
+// `terms` is [(texel·K + k)·count + d].
+std::vector<float> TermAtlas(const std::vector<float>& terms, uint32_t rank, uint32_t resolution, size_t count,
+                             uint32_t first, uint32_t channels) {
   const uint32_t k = GridSide(count);
   const size_t texels = size_t{resolution} * resolution;
-  std::vector<std::vector<float>> layers((rank + 3) / 4, std::vector<float>(texels * count * 4, 0.0f));
+  std::vector<float> atlas(texels * count * channels, 0.0f);
   for (size_t texel = 0; texel < texels; ++texel) {
-    for (uint32_t term = 0; term < rank; ++term) {
+    for (uint32_t term = first; term < std::min(rank, first + channels); ++term) {
       for (size_t d = 0; d < count; ++d) {
-        layers[term / 4][DirectionAtlasPixel(texel, resolution, d, k) * 4 + term % 4] =
+        atlas[DirectionAtlasPixel(texel, resolution, d, k) * channels + term - first] =
             terms[(texel * rank + term) * count + d];
       }
     }
   }
-  return layers;
+  return atlas;
 }
+
+// The GPU's layers: four terms to an RGBA layer.
+uint32_t TermLayerCount(uint32_t rank) { return (rank + 3) / 4; }
 
 std::vector<std::string> TermChannels(char name, uint32_t rank) {
   std::vector<std::string> channels;
@@ -60,19 +63,9 @@ std::vector<std::string> TermChannels(char name, uint32_t rank) {
 template <typename Terms>
 LevelImage TermImage(const FactoredFabric& fabric, char name, size_t count, const Terms& terms_of) {
   LevelImage image{TermChannels(name, fabric.rank), {}, {}};
-  const uint32_t k = GridSide(count);
   for (const FactoredLevel& level : fabric.levels) {
-    const std::vector<float>& terms = terms_of(level);
-    std::vector<float>& out = image.pixels.emplace_back(level.texel_count() * count * fabric.rank);
-    for (size_t texel = 0; texel < level.texel_count(); ++texel) {
-      for (uint32_t term = 0; term < fabric.rank; ++term) {
-        for (size_t d = 0; d < count; ++d) {
-          out[DirectionAtlasPixel(texel, level.resolution, d, k) * fabric.rank + term] =
-              terms[(texel * fabric.rank + term) * count + d];
-        }
-      }
-    }
-    image.sides.push_back(static_cast<int>(level.resolution * k));
+    image.pixels.push_back(TermAtlas(terms_of(level), fabric.rank, level.resolution, count, 0, fabric.rank));
+    image.sides.push_back(static_cast<int>(level.resolution * GridSide(count)));
   }
   return image;
 }
@@ -100,16 +93,18 @@ class FactoredTextures final : public GpuFabric {
                  fabric.view_heights},
         rank_(static_cast<int>(fabric.rank)),
         views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
-        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half, (rank_ + 3) / 4),
-        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 4, half, (rank_ + 3) / 4) {
+        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half,
+                    static_cast<int>(TermLayerCount(fabric.rank))),
+        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 4, half,
+                     static_cast<int>(TermLayerCount(fabric.rank))) {
     for (int level = 0; level < surface_.levels(); ++level) {
       const FactoredLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
-      const auto a = TermLayers(data.view_terms, fabric.rank, data.resolution, fabric.view_count());
-      const auto b = TermLayers(data.light_terms, fabric.rank, data.resolution, fabric.light_count());
-      for (size_t layer = 0; layer < a.size(); ++layer) {
-        view_terms_.Upload(level, a[layer].data(), static_cast<int>(layer));
-        light_terms_.Upload(level, b[layer].data(), static_cast<int>(layer));
+      for (uint32_t layer = 0; layer < TermLayerCount(fabric.rank); ++layer) {
+        const auto a = TermAtlas(data.view_terms, fabric.rank, data.resolution, fabric.view_count(), 4 * layer, 4);
+        const auto b = TermAtlas(data.light_terms, fabric.rank, data.resolution, fabric.light_count(), 4 * layer, 4);
+        view_terms_.Upload(level, a.data(), static_cast<int>(layer));
+        light_terms_.Upload(level, b.data(), static_cast<int>(layer));
       }
     }
   }
