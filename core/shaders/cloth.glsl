@@ -9,30 +9,22 @@
 // this program paid for the fabric's shading (the 1080p bench cloth's floor and
 // ball alone took 525 ms, 399 ms with their own program; docs/gpu.md).
 
-// One level at `tile`: the texel it falls in (the paper's lookup), or with
-// LOOM_BILINEAR_TEXELS the four texels around it, their shadings blended bilinearly
-// across the tile's periodic edges. Blending shadings, not parameters: a mean of
+// One level at `tile`: the shadings of its taps (fabric_surface.glsl FabricTap: the
+// texel it falls in, the paper's lookup, or with LOOM_BILINEAR_TEXELS the four around
+// it), blended. Blending shadings, not parameters: a mean of
 // lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
 // bench set, blending the shadings +1.6 dB). The 1×1 level takes the same path (its
 // four taps are the one texel, weights summing to 1): a branch for it cost llvmpipe,
 // which runs both sides of a branch, a fifth shading on every level (1080p bench
 // cloth 712 → 631 ms without it).
 vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
-#ifdef LOOM_BILINEAR_TEXELS
-  int resolution = FabricResolution(level);
-  vec2 at = fract(tile) * float(resolution) - 0.5;
-  vec2 corner = floor(at), weight = at - corner;
   vec4 result = vec4(0.0);
-  for (int i = 0; i < 4; ++i) {
-    ivec2 offset = ivec2(i & 1, i >> 1);
-    ivec2 texel = (ivec2(corner) + offset + resolution) % resolution;
-    vec2 w = mix(1.0 - weight, weight, vec2(offset));
-    result += w.x * w.y * ShadeFabricTexel(texel, level, fragment);
+  for (int i = 0; i < kFabricTaps; ++i) {
+    ivec2 texel;
+    float weight = FabricTap(tile, level, i, texel);
+    result += weight * ShadeFabricTexel(texel, level, fragment);
   }
   return result;
-#else
-  return ShadeFabricTexel(FabricTexelAt(tile, level), level, fragment);
-#endif
 }
 
 // The footprint's one or two levels at `tile`, blended.

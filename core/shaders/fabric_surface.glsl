@@ -116,6 +116,31 @@ ivec2 FabricTexelAt(vec2 tile, int level) {
   return min(ivec2(fract(tile) * float(resolution)), ivec2(resolution - 1));
 }
 
+// The texels a level's shading at `tile` blends: with LOOM_BILINEAR_TEXELS the four
+// around it, bilinearly, across the tile's periodic edges; else the one it falls in.
+#ifdef LOOM_BILINEAR_TEXELS
+const int kFabricTaps = 4;
+#else
+const int kFabricTaps = 1;
+#endif
+
+// Tap i < kFabricTaps of `level` at `tile`: its texel and its weight (the weights sum
+// to 1).
+float FabricTap(vec2 tile, int level, int i, out ivec2 texel) {
+#ifdef LOOM_BILINEAR_TEXELS
+  int resolution = FabricResolution(level);
+  vec2 at = fract(tile) * float(resolution) - 0.5;
+  vec2 corner = floor(at), weight = at - corner;
+  ivec2 offset = ivec2(i & 1, i >> 1);
+  texel = (ivec2(corner) + offset + resolution) % resolution;
+  vec2 w = mix(1.0 - weight, weight, vec2(offset));
+  return w.x * w.y;
+#else
+  texel = FabricTexelAt(tile, level);
+  return 1.0;
+#endif
+}
+
 // The continuous level λ from the screen footprint of the tile coordinate, in
 // level-0 texels; the mode picks level 0, the nearest level or the two nearest.
 // The footprint's side is the geometric mean of its two axes (the square of the

@@ -7,7 +7,9 @@
 // by the texture filter (bilinear across the tile's periodic edges with bilinear
 // texels, else the texel's own), blended between the footprint's two levels, and
 // decoded once per fragment (LOOM_FABRIC_DECODER: cloth.glsl hands the blended A to
-// DecodeFabric). Directions in the tile frame.
+// DecodeFabric). With a factored base (LOOM_NEURAL_BASE) the radiance is
+// A/π ⊙ max(0, s + f), s the base's shape (factored_terms.glsl) of the same texels and
+// levels, blended with the latents' weights. Directions in the tile frame.
 
 #define LOOM_FABRIC_LIGHT_GRID
 #define LOOM_FABRIC_DECODER
@@ -35,6 +37,30 @@ layout(std140) uniform NeuralDecoder {
   vec4 u_decoder[kB3 + 1];
 };
 uniform sampler2DArray u_fabric_latents;  // layer i: z[4i..4i+3]; mip ℓ: level ℓ's res_ℓ² texels; repeat
+
+#ifdef LOOM_NEURAL_BASE
+#include "factored_terms.glsl"
+
+// The base's shape for each light at `tile`: its taps' shapes at the footprint's
+// levels, blended with the weights the texture filter gives the latents.
+void BaseShapes(vec2 tile, FabricFootprint f, FabricFragment fragment, out float shape[kMaxLights]) {
+  for (int l = 0; l < u_light_count; ++l) shape[l] = 0.0;
+  for (int n = 0; n < 2; ++n) {
+    float level_weight = n == 0 ? 1.0 - f.blend : f.blend;
+    if (level_weight <= 0.0) continue;
+    int level = n == 0 ? f.level0 : f.level1;
+    for (int i = 0; i < kFabricTaps; ++i) {
+      ivec2 texel;
+      float weight = level_weight * FabricTap(tile, level, i, texel);
+      vec4 a[kTermLayers];
+      FetchViewTerms(texel, level, fragment.view_grid, a);
+      for (int l = 0; l < u_light_count; ++l) {
+        shape[l] += weight * FactoredShape(a, texel, level, fragment.light_grid[l]);
+      }
+    }
+  }
+}
+#endif
 
 // The view atlas's part of a texel: the gain A and coverage.
 vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
@@ -66,10 +92,14 @@ float DecoderRow(int row, vec4 x[kHidden]) {
 }
 
 // The fragment's radiance from its blended gain A: A times the ambient light, plus
-// A/π times f decoded for each light, clamped at 0, times the light's irradiance and
-// grid weight. The first layer's latent and view part is the same for every light
-// and computed once.
+// A/π times f (plus the base's shape) decoded for each light, clamped at 0, times the
+// light's irradiance and grid weight. The first layer's latent and view part is the
+// same for every light and computed once.
 vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment, vec3 gain) {
+#ifdef LOOM_NEURAL_BASE
+  float shape[kMaxLights];
+  BaseShapes(tile, f, fragment, shape);
+#endif
   vec4 z[kLatents];
   for (int i = 0; i < kLatents; ++i) {
     z[i] = FabricLatent(tile, f.level0, i);
@@ -107,6 +137,9 @@ vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment, vec3 ga
     }
     vec3 y = vec3(DecoderRow(kW3, h2), DecoderRow(kW3 + kHidden, h2), DecoderRow(kW3 + 2 * kHidden, h2));
     y += u_decoder[kB3].xyz;
+#ifdef LOOM_NEURAL_BASE
+    y += shape[l];
+#endif
     radiance += fragment.light_irradiance[l] * fragment.light_weight[l] * max(y, vec3(0.0));
   }
   return gain * (fragment.ambient + radiance / kPi);

@@ -260,6 +260,7 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
     at.Multiple("neural.hidden", settings.neural().hidden(), 4);
     at.Range("neural.steps", settings.neural().steps(), 1, kMaxNeuralSteps);
     at.Max("neural.frequencies", settings.neural().frequencies(), kMaxNeuralFrequencies);
+    at.Max("neural.base_rank", settings.neural().base_rank(), kMaxFactoredRank);
   }
 }
 

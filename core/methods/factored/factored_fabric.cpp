@@ -108,27 +108,29 @@ FactoredFabric FactorFabric(const TabulatedFabric& table, uint32_t rank, unsigne
   return fabric;
 }
 
-glm::vec4 EvaluateFactored(const FactoredFabric& fabric, uint32_t level_index, size_t texel, glm::vec3 view,
-                           glm::vec3 light) {
+float FactoredShape(const FactoredFabric& fabric, uint32_t level_index, size_t texel, const GridPoint& view,
+                    const GridPoint& light) {
   const FactoredLevel& level = fabric.levels.at(level_index);
   const size_t views = fabric.view_count(), lights = fabric.light_count();
-  const uint32_t view_side = GridSide(views);
-  const uint32_t light_side = GridSide(lights);
-  const GridPoint v = LocateOnGrid(view, view_side);
-  const GridPoint l = LocateOnGrid(light, light_side);
   float sum = 0.0f;
   for (uint32_t k = 0; k < fabric.rank; ++k) {
     const size_t term = texel * fabric.rank + k;
-    const float a = Bilinear<float>(v, view_side, [&](size_t stored) { return level.view_terms[term * views + stored]; });
-    const float b =
-        Bilinear<float>(l, light_side, [&](size_t stored) { return level.light_terms[term * lights + stored]; });
+    const float a =
+        Bilinear<float>(view, GridSide(views), [&](size_t stored) { return level.view_terms[term * views + stored]; });
+    const float b = Bilinear<float>(light, GridSide(lights),
+                                    [&](size_t stored) { return level.light_terms[term * lights + stored]; });
     sum += a * b;
   }
-  const glm::vec3 gain =
-      Bilinear<glm::vec3>(v, view_side, [&](size_t stored) { return level.ambient[texel * views + stored]; }) /
-      std::numbers::pi_v<float>;
-  const float alpha = Bilinear<float>(v, view_side, [&](size_t stored) { return level.alpha[texel * views + stored]; });
-  return {LightWeight(light, l) * gain * std::max(sum, 0.0f), glm::mix(alpha, 1.0f, v.beyond_ring)};
+  return sum;
+}
+
+glm::vec4 EvaluateFactored(const FactoredFabric& fabric, uint32_t level_index, size_t texel, glm::vec3 view,
+                           glm::vec3 light) {
+  const GridPoint v = LocateOnGrid(view, GridSide(fabric.view_count()));
+  const GridPoint l = LocateOnGrid(light, GridSide(fabric.light_count()));
+  const float shape = FactoredShape(fabric, level_index, texel, v, l);
+  return GainTimesShape(fabric.levels.at(level_index), texel, fabric.view_count(), v, LightWeight(light, l),
+                        glm::vec3(shape));
 }
 
 }  // namespace loom

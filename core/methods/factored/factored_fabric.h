@@ -15,6 +15,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/methods/direction_grid.h"
 #include "core/methods/tabulated/tabulated_fabric.h"
 
 namespace loom {
@@ -50,6 +51,12 @@ struct FactoredFabric {
 // the thread count. progress(fraction) after each level.
 FactoredFabric FactorFabric(const TabulatedFabric& table, uint32_t rank, unsigned threads = 0,
                             const std::function<void(double)>& progress = {});
+
+// The shape Σ_k a_k(v)·b_k(l) of texel `texel` of `level`, not clamped, a_k and b_k
+// bilinear between the stored directions around the view and the light
+// (core/shaders/factored_terms.glsl FactoredShape).
+float FactoredShape(const FactoredFabric& fabric, uint32_t level, size_t texel, const GridPoint& view,
+                    const GridPoint& light);
 
 // The renderer's radiance (rgb, per unit irradiance of a light from `light`) and
 // alpha (a) of texel `texel` of `level` seen from `view` (core/shaders/factored.glsl).

@@ -91,40 +91,27 @@ class FactoredTextures final : public GpuFabric {
       : surface_{static_cast<int>(fabric.levels.size()), static_cast<int>(fabric.levels.at(0).resolution),
                  static_cast<int>(GridSide(fabric.view_count())), static_cast<int>(GridSide(fabric.light_count())),
                  fabric.view_heights},
-        rank_(static_cast<int>(fabric.rank)),
         views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
-        view_terms_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half,
-                    static_cast<int>(TermLayerCount(fabric.rank))),
-        light_terms_(surface_.levels(), surface_.resolution() * surface_.light_side(), 4, half,
-                     static_cast<int>(TermLayerCount(fabric.rank))) {
+        terms_(fabric, half) {
     for (int level = 0; level < surface_.levels(); ++level) {
       const FactoredLevel& data = fabric.levels[static_cast<size_t>(level)];
       views_.Upload(level, AmbientAlphaAtlas(data.ambient, data.alpha, data.resolution, fabric.view_count()).data());
-      for (uint32_t layer = 0; layer < TermLayerCount(fabric.rank); ++layer) {
-        const auto a = TermAtlas(data.view_terms, fabric.rank, data.resolution, fabric.view_count(), 4 * layer, 4);
-        const auto b = TermAtlas(data.light_terms, fabric.rank, data.resolution, fabric.light_count(), 4 * layer, 4);
-        view_terms_.Upload(level, a.data(), static_cast<int>(layer));
-        light_terms_.Upload(level, b.data(), static_cast<int>(layer));
-      }
     }
   }
 
   const FabricMethod& method() const override { return FactoredMethod(); }
 
   void Bind(const gl::ShaderProgram& program, int first_unit, glm::vec2 repeat) const override {
-    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), view_terms_.id());
-    glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits + 1), light_terms_.id());
     surface_.Bind(program, views_.id(), first_unit, repeat);
-    program.Set("u_fabric_view_terms", first_unit + FabricSurface::kUnits);
-    program.Set("u_fabric_light_terms", first_unit + FabricSurface::kUnits + 1);
+    terms_.Bind(program, first_unit + FabricSurface::kUnits);
   }
 
-  std::string ShaderDefines() const override { return "#define LOOM_FACTORED_RANK " + std::to_string(rank_) + "\n"; }
+  std::string ShaderDefines() const override { return terms_.ShaderDefines(); }
 
  private:
   FabricSurface surface_;
-  int rank_;
-  LevelTexture views_, view_terms_, light_terms_;
+  LevelTexture views_;
+  FactoredTermTextures terms_;
 };
 
 FactoredFabric ReadFactored(const std::filesystem::path& directory) {
@@ -148,29 +135,19 @@ FactoredFabric ReadFactored(const std::filesystem::path& directory) {
     fabric.light_directions = HemisphereGridDirections(lights);
     fabric.view_heights = header.view_heights;
     fabric.seconds = header.build_seconds;
-    std::vector<int> view_sides, light_sides;
+    std::vector<int> view_sides;
     for (const json& entry : manifest.at("levels")) {
       FactoredLevel& level = fabric.levels.emplace_back();
       level.resolution = entry.at("resolution");
       level.relative_rmse = entry.at("relative_rmse");
       view_sides.push_back(static_cast<int>(level.resolution * GridSide(views)));
-      light_sides.push_back(static_cast<int>(level.resolution * GridSide(lights)));
     }
     const json& files = manifest.at("files");
-    const auto a = ReadLevelImage(VerifiedFile(directory, files, kViewTermsFile, view_sides[0]), view_sides,
-                                  TermChannels('a', fabric.rank));
-    const auto b = ReadLevelImage(VerifiedFile(directory, files, kLightTermsFile, light_sides[0]), light_sides,
-                                  TermChannels('b', fabric.rank));
+    ReadFactoredTerms(directory, files, fabric, invalid);
     const auto atlases = ReadLevelImage(VerifiedFile(directory, files, kViewsFile, view_sides[0]), view_sides,
                                         {"R", "G", "B", "A"});
     for (size_t j = 0; j < fabric.levels.size(); ++j) {
       FactoredLevel& level = fabric.levels[j];
-      const auto finite = [](float value) { return std::isfinite(value); };
-      if (!std::all_of(a[j].begin(), a[j].end(), finite) || !std::all_of(b[j].begin(), b[j].end(), finite)) {
-        throw invalid("level " + std::to_string(j) + " holds a non-finite term");
-      }
-      level.view_terms = TermsFromImage(a[j], fabric.rank, level.resolution, views);
-      level.light_terms = TermsFromImage(b[j], fabric.rank, level.resolution, lights);
       ReadAmbientAlphaAtlas(atlases[j], level.resolution, views, level.ambient, level.alpha, invalid);
     }
     return fabric;
@@ -215,6 +192,70 @@ class Factored final : public FabricMethod {
 
 }  // namespace
 
+json WriteFactoredTerms(const FactoredFabric& fabric, const std::filesystem::path& directory, bool half) {
+  const auto view_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.view_terms; };
+  const auto light_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.light_terms; };
+  const std::string a_sha =
+      WriteLevelImage(TermImage(fabric, 'a', fabric.view_count(), view_terms), directory / kViewTermsFile, half);
+  const std::string b_sha =
+      WriteLevelImage(TermImage(fabric, 'b', fabric.light_count(), light_terms), directory / kLightTermsFile, half);
+  return {{kViewTermsFile, FileEntry(directory / kViewTermsFile, a_sha)},
+          {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)}};
+}
+
+void ReadFactoredTerms(const std::filesystem::path& directory, const json& files, FactoredFabric& fabric,
+                       const std::function<Error(const std::string&)>& invalid) {
+  const size_t views = fabric.view_count(), lights = fabric.light_count();
+  std::vector<int> view_sides, light_sides;
+  for (const FactoredLevel& level : fabric.levels) {
+    view_sides.push_back(static_cast<int>(level.resolution * GridSide(views)));
+    light_sides.push_back(static_cast<int>(level.resolution * GridSide(lights)));
+  }
+  const auto a = ReadLevelImage(VerifiedFile(directory, files, kViewTermsFile, view_sides.at(0)), view_sides,
+                                TermChannels('a', fabric.rank));
+  const auto b = ReadLevelImage(VerifiedFile(directory, files, kLightTermsFile, light_sides.at(0)), light_sides,
+                                TermChannels('b', fabric.rank));
+  for (size_t j = 0; j < fabric.levels.size(); ++j) {
+    FactoredLevel& level = fabric.levels[j];
+    const auto finite = [](float value) { return std::isfinite(value); };
+    if (!std::all_of(a[j].begin(), a[j].end(), finite) || !std::all_of(b[j].begin(), b[j].end(), finite)) {
+      throw invalid("level " + std::to_string(j) + " holds a non-finite term");
+    }
+    level.view_terms = TermsFromImage(a[j], fabric.rank, level.resolution, views);
+    level.light_terms = TermsFromImage(b[j], fabric.rank, level.resolution, lights);
+  }
+}
+
+FactoredTermTextures::FactoredTermTextures(const FactoredFabric& fabric, bool half)
+    : rank_(fabric.rank),
+      view_terms_(static_cast<int>(fabric.levels.size()),
+                  static_cast<int>(fabric.levels.at(0).resolution * GridSide(fabric.view_count())), 4, half,
+                  static_cast<int>(TermLayerCount(fabric.rank))),
+      light_terms_(static_cast<int>(fabric.levels.size()),
+                   static_cast<int>(fabric.levels.at(0).resolution * GridSide(fabric.light_count())), 4, half,
+                   static_cast<int>(TermLayerCount(fabric.rank))) {
+  for (size_t level = 0; level < fabric.levels.size(); ++level) {
+    const FactoredLevel& data = fabric.levels[level];
+    for (uint32_t layer = 0; layer < TermLayerCount(fabric.rank); ++layer) {
+      const auto a = TermAtlas(data.view_terms, fabric.rank, data.resolution, fabric.view_count(), 4 * layer, 4);
+      const auto b = TermAtlas(data.light_terms, fabric.rank, data.resolution, fabric.light_count(), 4 * layer, 4);
+      view_terms_.Upload(static_cast<int>(level), a.data(), static_cast<int>(layer));
+      light_terms_.Upload(static_cast<int>(level), b.data(), static_cast<int>(layer));
+    }
+  }
+}
+
+void FactoredTermTextures::Bind(const gl::ShaderProgram& program, int unit) const {
+  glBindTextureUnit(static_cast<GLuint>(unit), view_terms_.id());
+  glBindTextureUnit(static_cast<GLuint>(unit + 1), light_terms_.id());
+  program.Set("u_fabric_view_terms", unit);
+  program.Set("u_fabric_light_terms", unit + 1);
+}
+
+std::string FactoredTermTextures::ShaderDefines() const {
+  return "#define LOOM_FACTORED_RANK " + std::to_string(rank_) + "\n";
+}
+
 const FabricMethod& FactoredAsset::method() const { return FactoredMethod(); }
 
 void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
@@ -222,12 +263,7 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
   std::filesystem::create_directories(directory);
-  const auto view_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.view_terms; };
-  const auto light_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.light_terms; };
-  const std::string a_sha =
-      WriteLevelImage(TermImage(fabric_, 'a', fabric_.view_count(), view_terms), directory / kViewTermsFile, half);
-  const std::string b_sha =
-      WriteLevelImage(TermImage(fabric_, 'b', fabric_.light_count(), light_terms), directory / kLightTermsFile, half);
+  json files = WriteFactoredTerms(fabric_, directory, half);
   const std::string views_sha =
       WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),
@@ -236,9 +272,8 @@ void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::str
   json manifest = TableManifest("factored", kFactoredFormatVersion, fabric_key, resolved, header,
                                 Figures().at("levels"));
   manifest["rank"] = fabric_.rank;
-  manifest["files"] = {{kViewTermsFile, FileEntry(directory / kViewTermsFile, a_sha)},
-                       {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)},
-                       {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}};
+  files[kViewsFile] = FileEntry(directory / kViewsFile, views_sha);
+  manifest["files"] = files;
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
 }
 

@@ -13,10 +13,40 @@
 // Half floats with settings.half_float, full floats otherwise, on disk and on the GPU
 // (there four terms to an RGBA layer of a texture array).
 
+#include <functional>
+
 #include "core/methods/factored/factored_fabric.h"
 #include "core/methods/fabric_method.h"
+#include "core/util/error.h"
 
 namespace loom {
+
+// The terms' files and GPU textures, which the neural method's factored base shares
+// (core/methods/neural/neural_method.h).
+//
+// Writes every level's view and light terms (view_terms.exr, light_terms.exr) into
+// `directory`; returns their manifest "files" entries.
+nlohmann::json WriteFactoredTerms(const FactoredFabric& fabric, const std::filesystem::path& directory, bool half);
+// Reads them (checked against `files`) into each level's view_terms and light_terms;
+// `fabric`'s rank, directions and level resolutions must be set.
+void ReadFactoredTerms(const std::filesystem::path& directory, const nlohmann::json& files, FactoredFabric& fabric,
+                       const std::function<Error(const std::string&)>& invalid);
+
+// The terms on the GPU, four to an RGBA layer of two texture arrays (MIP ℓ = level ℓ),
+// read by core/shaders/factored_terms.glsl.
+class FactoredTermTextures {
+ public:
+  FactoredTermTextures(const FactoredFabric& fabric, bool half);
+  // The view terms to unit `unit`, the light terms to unit + 1.
+  void Bind(const gl::ShaderProgram& program, int unit) const;
+  static constexpr int kUnits = 2;
+  // "#define LOOM_FACTORED_RANK K\n": the loop bound factored_terms.glsl is compiled with.
+  std::string ShaderDefines() const;
+
+ private:
+  uint32_t rank_;
+  LevelTexture view_terms_, light_terms_;
+};
 
 class FactoredAsset final : public FabricAsset {
  public:

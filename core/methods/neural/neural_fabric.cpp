@@ -104,10 +104,26 @@ std::vector<float> EncodePairs(const TabulatedFabric& table, uint32_t frequencie
   return encodings;
 }
 
-// Decodes every (texel, view, light) of `table` with the trained parameters, as the
-// renderer does (the gain times f clamped at 0): the error against the table.
-void Summarise(const NeuralDecoder& decoder, const TabulatedLevel& table, const std::vector<float>& encodings,
-               size_t v_count, size_t l_count, unsigned threads, NeuralLevel& level) {
+// The factored base's shape at a stored (view, light) of a texel of `level`; 0 without
+// a base.
+float StoredShape(const FactoredFabric& base, size_t level, size_t texel, size_t view, size_t light) {
+  if (base.rank == 0) return 0.0f;
+  const FactoredLevel& terms = base.levels[level];
+  const size_t views = base.view_count(), lights = base.light_count();
+  float sum = 0.0f;
+  for (uint32_t k = 0; k < base.rank; ++k) {
+    const size_t term = texel * base.rank + k;
+    sum += terms.view_terms[term * views + view] * terms.light_terms[term * lights + light];
+  }
+  return sum;
+}
+
+// Decodes every (texel, view, light) of level `j` of `table` with the trained
+// parameters, as the renderer does (the gain times the base's shape plus f, clamped
+// at 0): the error against the table.
+void Summarise(const NeuralDecoder& decoder, const FactoredFabric& base, size_t j, const TabulatedLevel& table,
+               const std::vector<float>& encodings, size_t v_count, size_t l_count, unsigned threads,
+               NeuralLevel& level) {
   const Layout o(decoder);
   const size_t texels = level.texel_count(), size = decoder.inputs() - decoder.channels;
   level.alpha = table.alpha;
@@ -128,7 +144,8 @@ void Summarise(const NeuralDecoder& decoder, const TabulatedLevel& table, const 
       for (size_t l = 0; l < l_count; ++l) {
         const glm::vec3 target = table.radiance[(texel * v_count + view) * l_count + l];
         for (int c = 0; c < 3; ++c) {
-          const float value = gain[c] * std::max(a.y(c, Eigen::Index(l)), 0.0f);
+          const float shape = a.y(c, Eigen::Index(l)) + StoredShape(base, j, texel, view, l);
+          const float value = gain[c] * std::max(shape, 0.0f);
           residual[texel] += double(value - target[c]) * double(value - target[c]);
           total[texel] += target[c];
         }
@@ -202,6 +219,7 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   fabric.view_directions = table.view_directions;
   fabric.light_directions = table.light_directions;
   fabric.view_heights = table.view_heights;
+  if (training.base_rank > 0) fabric.base = FactorFabric(table, training.base_rank, threads);
 
   // One parameter vector: the decoder, then each level's latents.
   const size_t decoder_count = NeuralDecoder::ParameterCount(channels, training.hidden, training.frequencies);
@@ -216,7 +234,8 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   const size_t encoding_size = fabric.decoder.inputs() - channels;
   Draw draw(training.seed);
   // He-uniform weights for ReLU layers, zero biases, the output bias at ½ (f of a
-  // Lambertian texel is cos θ_l); latents uniform in [-½, ½].
+  // Lambertian texel is cos θ_l) or, over a base, 0 (f is what the base leaves);
+  // latents uniform in [-½, ½].
   const auto fill = [&](size_t start, size_t n, Eigen::Index fan_in) {
     const float bound = std::sqrt(6.0f / static_cast<float>(fan_in));
     for (size_t i = 0; i < n; ++i) theta[start + i] = bound * draw.Symmetric();
@@ -224,7 +243,7 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   fill(o.w1, size_t(o.h * o.n), o.n);
   fill(o.w2, size_t(o.h * o.h), o.h);
   fill(o.w3, size_t(3 * o.h), o.h);
-  for (int c = 0; c < 3; ++c) theta[o.b3 + size_t(c)] = 0.5f;
+  for (int c = 0; c < 3; ++c) theta[o.b3 + size_t(c)] = fabric.base.rank > 0 ? 0.0f : 0.5f;
   for (size_t i = decoder_count; i < count; ++i) theta[i] = 0.5f * draw.Symmetric();
 
   Adam adam(count);
@@ -269,7 +288,9 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
       const size_t pair = size_t{sample.texel} * views + sample.view;
       const glm::vec3 t = level.radiance[pair * lights + sample.light];
       const glm::vec3 a = level.ambient[pair] / std::numbers::pi_v<float>;
-      target.col(s) << t.x, t.y, t.z;
+      // f is fitted to what the base's shape leaves: gain ⊙ (s + f) ≈ t.
+      const glm::vec3 left = t - a * StoredShape(fabric.base, sample.level, sample.texel, sample.view, sample.light);
+      target.col(s) << left.x, left.y, left.z;
       gain.col(s) << a.x, a.y, a.z;
     }
     Activations& a = scratch.a;
@@ -314,7 +335,7 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
     level.resolution = table.levels[j].resolution;
     const auto start = theta.begin() + std::ptrdiff_t(latent_start[j]);
     level.latents.assign(start, start + std::ptrdiff_t(level.texel_count() * channels));
-    Summarise(fabric.decoder, table.levels[j], encodings, views, lights, threads, level);
+    Summarise(fabric.decoder, fabric.base, j, table.levels[j], encodings, views, lights, threads, level);
   }
   if (progress) progress(1.0);
   fabric.seconds = stopwatch.Seconds();
@@ -324,18 +345,12 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
 glm::vec4 EvaluateNeural(const NeuralFabric& fabric, uint32_t level_index, size_t texel, glm::vec3 view,
                          glm::vec3 light) {
   const NeuralLevel& level = fabric.levels.at(level_index);
-  const size_t views = fabric.view_count();
-  const uint32_t view_side = GridSide(views);
-  const uint32_t light_side = GridSide(fabric.light_count());
-  const GridPoint v = LocateOnGrid(view, view_side);
-  const GridPoint l = LocateOnGrid(light, light_side);
-  const glm::vec3 f = fabric.decoder.Decode(&level.latents.at(texel * fabric.decoder.channels), glm::vec2(view),
-                                            glm::vec2(light));
-  const glm::vec3 gain =
-      Bilinear<glm::vec3>(v, view_side, [&](size_t stored) { return level.ambient[texel * views + stored]; }) /
-      std::numbers::pi_v<float>;
-  const float alpha = Bilinear<float>(v, view_side, [&](size_t stored) { return level.alpha[texel * views + stored]; });
-  return {LightWeight(light, l) * gain * glm::max(f, glm::vec3(0.0f)), glm::mix(alpha, 1.0f, v.beyond_ring)};
+  const GridPoint v = LocateOnGrid(view, GridSide(fabric.view_count()));
+  const GridPoint l = LocateOnGrid(light, GridSide(fabric.light_count()));
+  glm::vec3 f = fabric.decoder.Decode(&level.latents.at(texel * fabric.decoder.channels), glm::vec2(view),
+                                      glm::vec2(light));
+  if (fabric.base.rank > 0) f += FactoredShape(fabric.base, level_index, texel, v, l);
+  return GainTimesShape(level, texel, fabric.view_count(), v, LightWeight(light, l), f);
 }
 
 }  // namespace loom

@@ -7,6 +7,9 @@
 // response per view, 2π/L·Σ_l L(v, l) from the tabulated samples (tabulated_fabric.h),
 // stored like alpha per (texel, view) and interpolated between stored views, so f
 // carries how the radiance varies with the light and A its colour and level per view.
+// With a factored base of K terms (factored_fabric.h, K > 0) the radiance is
+// A(v)/π ⊙ max(0, s + f), s = Σ_k a_k(v)·b_k(l) the factored method's shape of the
+// same table, and f is fitted to what s leaves.
 // Latents and decoder are trained together by Adam on the tabulated samples of every
 // level, so each level's latents are fitted to that level's pooled samples (fitted mip
 // levels). Deterministic for a seed and a step count, whatever the thread count.
@@ -18,6 +21,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/methods/factored/factored_fabric.h"
 #include "core/methods/tabulated/tabulated_fabric.h"
 
 namespace loom {
@@ -66,6 +70,9 @@ struct NeuralFabric {
   std::vector<glm::vec3> light_directions;
   std::vector<NeuralLevel> levels;  // levels[0] is the finest
   std::vector<float> view_heights;  // RadianceSamples::view_heights
+  // The factored base; rank 0: none. Only its levels' terms are used (the gain and
+  // coverage are the levels' own).
+  FactoredFabric base;
   double seconds = 0.0;  // wall time of TrainNeural
 
   size_t view_count() const { return view_directions.size(); }
@@ -78,6 +85,7 @@ struct NeuralTraining {
   uint32_t frequencies = 0;
   uint32_t steps = 1000;
   uint64_t seed = 0;
+  uint32_t base_rank = 0;  // K of the factored base, 0: none
 };
 
 // Samples in one training step.

@@ -11,6 +11,7 @@
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/asset_files.h"
 #include "core/methods/direction_grid.h"
+#include "core/methods/factored/factored_method.h"
 #include "core/methods/level_texture.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
 #include "core/spec/defaults.h"
@@ -28,8 +29,9 @@ constexpr const char* kLatentsFile = "latents.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout; 2: every level drawn equally often in training; 3: the
-// view atlas's RGB is the per-view gain A (radiance A/π ⊙ f).
-constexpr uint32_t kNeuralFormatVersion = 4;
+// view atlas's RGB is the per-view gain A (radiance A/π ⊙ f); 4: the Fourier
+// encoding's frequencies; 5: the factored base (decoder.base_rank, its terms' files).
+constexpr uint32_t kNeuralFormatVersion = 5;
 // The uniform buffer binding of the decoder's parameters.
 constexpr GLuint kDecoderBinding = 0;
 
@@ -58,7 +60,8 @@ class NeuralTextures final : public GpuFabric {
         hidden_(fabric.decoder.hidden),
         frequencies_(fabric.decoder.frequencies),
         views_(surface_.levels(), surface_.resolution() * surface_.view_side(), 4, half),
-        latents_(surface_.levels(), surface_.resolution(), 4, half, static_cast<int>(channels_ / 4)) {
+        latents_(surface_.levels(), surface_.resolution(), 4, half, static_cast<int>(channels_ / 4)),
+        base_(fabric.base.rank > 0 ? std::make_unique<FactoredTermTextures>(fabric.base, half) : nullptr) {
     // The latents repeat with the tile: the filter blends texels across its edges.
     glTextureParameteri(latents_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(latents_.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
@@ -93,6 +96,7 @@ class NeuralTextures final : public GpuFabric {
     glBindTextureUnit(static_cast<GLuint>(first_unit + FabricSurface::kUnits), latents_.id());
     surface_.Bind(program, views_.id(), first_unit, repeat);
     program.Set("u_fabric_latents", first_unit + FabricSurface::kUnits);
+    if (base_) base_->Bind(program, first_unit + FabricSurface::kUnits + 1);
     // The shadow pass reads coverage alone and has no decoder block.
     const GLuint block = glGetUniformBlockIndex(program.id(), "NeuralDecoder");
     if (block != GL_INVALID_INDEX) {
@@ -103,13 +107,15 @@ class NeuralTextures final : public GpuFabric {
 
   std::string ShaderDefines() const override {
     return "#define LOOM_NEURAL_CHANNELS " + std::to_string(channels_) + "\n#define LOOM_NEURAL_HIDDEN " +
-           std::to_string(hidden_) + "\n#define LOOM_NEURAL_FREQUENCIES " + std::to_string(frequencies_) + "\n";
+           std::to_string(hidden_) + "\n#define LOOM_NEURAL_FREQUENCIES " + std::to_string(frequencies_) + "\n" +
+           (base_ ? "#define LOOM_NEURAL_BASE\n" + base_->ShaderDefines() : std::string());
   }
 
  private:
   FabricSurface surface_;
   uint32_t channels_, hidden_, frequencies_;
   LevelTexture views_, latents_;
+  std::unique_ptr<FactoredTermTextures> base_;  // null without a factored base
   GLuint decoder_ = 0;
 };
 
@@ -137,6 +143,7 @@ NeuralFabric ReadNeural(const std::filesystem::path& directory) {
     fabric.decoder.hidden = count("hidden", 4, kMaxNeuralHidden, 4);
     fabric.decoder.frequencies = count("frequencies", 0, kMaxNeuralFrequencies, 1);
     fabric.steps = count("steps", 1, kMaxNeuralSteps, 1);
+    fabric.base.rank = count("base_rank", 0, kMaxFactoredRank, 1);
     const json& parameters = decoder.at("parameters");
     const size_t expected =
         NeuralDecoder::ParameterCount(fabric.decoder.channels, fabric.decoder.hidden, fabric.decoder.frequencies);
@@ -152,7 +159,8 @@ NeuralFabric ReadNeural(const std::filesystem::path& directory) {
       fabric.decoder.parameters.push_back(static_cast<float>(number));
     }
     const uint32_t views = header.views;
-    CheckLevelChain(manifest.at("levels"), uint64_t{views} * 4 + fabric.decoder.channels,
+    CheckLevelChain(manifest.at("levels"),
+                    uint64_t{views} * 4 + fabric.decoder.channels + uint64_t{views + header.lights} * fabric.base.rank,
                     kMaxRadianceSamples / kMinDirections, invalid);
     fabric.view_directions = HemisphereGridDirections(views);
     fabric.light_directions = HemisphereGridDirections(header.lights);
@@ -178,6 +186,12 @@ NeuralFabric ReadNeural(const std::filesystem::path& directory) {
       }
       level.latents = latents[j];
       ReadAmbientAlphaAtlas(atlases[j], level.resolution, views, level.ambient, level.alpha, invalid);
+    }
+    if (fabric.base.rank > 0) {
+      fabric.base.view_directions = fabric.view_directions;
+      fabric.base.light_directions = fabric.light_directions;
+      for (const NeuralLevel& level : fabric.levels) fabric.base.levels.emplace_back().resolution = level.resolution;
+      ReadFactoredTerms(directory, files, fabric.base, invalid);
     }
     return fabric;
   } catch (const json::exception& e) {
@@ -209,7 +223,7 @@ class Neural final : public FabricMethod {
         TabulateFabric(samples, settings.mip_levels() != v1::MIP_LEVELS_NONE);
     const v1::NeuralSettings& neural = settings.neural();
     const NeuralTraining training{neural.channels(), neural.hidden(), neural.frequencies(), neural.steps(),
-                                  settings.seed()};
+                                  settings.seed(), neural.base_rank()};
     NeuralFabric fabric = TrainNeural(table, training, 0, [&progress](double fraction) {
       if (progress) progress(fraction, "train");
     });
@@ -249,9 +263,12 @@ void NeuralAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
                          {"hidden", fabric_.decoder.hidden},
                          {"frequencies", fabric_.decoder.frequencies},
                          {"steps", fabric_.steps},
+                         {"base_rank", fabric_.base.rank},
                          {"parameters", fabric_.decoder.parameters}};
-  manifest["files"] = {{kLatentsFile, FileEntry(directory / kLatentsFile, latents_sha)},
-                       {kViewsFile, FileEntry(directory / kViewsFile, views_sha)}};
+  json files = fabric_.base.rank > 0 ? WriteFactoredTerms(fabric_.base, directory, half) : json::object();
+  files[kLatentsFile] = FileEntry(directory / kLatentsFile, latents_sha);
+  files[kViewsFile] = FileEntry(directory / kViewsFile, views_sha);
+  manifest["files"] = files;
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
 }
 
@@ -268,6 +285,7 @@ json NeuralAsset::Figures() const {
           {"hidden", fabric_.decoder.hidden},
           {"frequencies", fabric_.decoder.frequencies},
           {"steps", fabric_.steps},
+          {"base_rank", fabric_.base.rank},
           {"view_directions", fabric_.view_count()},
           {"light_directions", fabric_.light_count()},
           {"levels", levels}};

@@ -7,11 +7,14 @@
 // the renderer's lookup in C++ (core/shaders/tabulated.glsl). Derivation:
 // docs/methods.md "tabulated".
 
+#include <algorithm>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <numbers>
 #include <vector>
 
 #include "core/acquire/radiance_samples.h"
+#include "core/methods/direction_grid.h"
 
 namespace loom {
 
@@ -45,6 +48,22 @@ TabulatedFabric TabulateFabric(const RadianceSamples& samples, bool mip_levels);
 // residuals and of the values (summed over texels in order: the same on any thread
 // count); 0 for a level of zeros.
 double RelativeRmse(const std::vector<double>& squared_residuals, const std::vector<double>& values, size_t count);
+
+// What the methods that scale a shape by the ambient response (factored, neural)
+// render from a texel of `level` (a level with per-(texel, view) `ambient` and `alpha`,
+// `views` stored views) at `view` on the view grid: light_weight · A/π ⊙ max(0, shape),
+// A and alpha bilinear between the stored views, alpha towards 1 past the outermost
+// ring (fabric_surface.glsl FetchFabricView).
+template <typename Level>
+glm::vec4 GainTimesShape(const Level& level, size_t texel, size_t views, const GridPoint& view, float light_weight,
+                         glm::vec3 shape) {
+  const uint32_t side = GridSide(views);
+  const glm::vec3 gain =
+      Bilinear<glm::vec3>(view, side, [&](size_t stored) { return level.ambient[texel * views + stored]; }) /
+      std::numbers::pi_v<float>;
+  const float alpha = Bilinear<float>(view, side, [&](size_t stored) { return level.alpha[texel * views + stored]; });
+  return {light_weight * gain * glm::max(shape, glm::vec3(0.0f)), glm::mix(alpha, 1.0f, view.beyond_ring)};
+}
 
 // The renderer's radiance (rgb, per unit irradiance of a light from `light`) and
 // alpha (a) of texel `texel` of `level` seen from `view`, both unit, tile frame.

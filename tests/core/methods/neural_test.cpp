@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include "core/acquire/hemisphere_directions.h"
 #include "core/methods/neural/neural_method.h"
@@ -22,21 +23,44 @@ namespace {
 
 NeuralTraining Training(uint32_t steps, uint32_t hidden = 16) { return {8, hidden, 1, steps, 7}; }
 
-// A diffuse table whose colour differs per texel (one of four tints): a latent per
-// texel and a small decoder hold it, so training drives the error towards zero
-// at every level, each fitted to its own pooled table.
-TEST(NeuralFabric, TrainingRecoversATableTheDecoderCanHoldAtEveryLevel) {
-  RadianceSamples samples(4, HemisphereGridDirections(16), HemisphereGridDirections(16));
+// 4×4 texels, each of one of four tints times shape(view, light) (indices of the
+// stored directions), every view covered.
+TabulatedFabric TintedTable(uint32_t views, uint32_t lights, const std::function<float(size_t, size_t)>& shape) {
+  RadianceSamples samples(4, HemisphereGridDirections(views), HemisphereGridDirections(lights));
   for (size_t texel = 0; texel < samples.texel_count(); ++texel) {
     const glm::vec3 tint(0.2f + 0.2f * float(texel % 4), 0.5f, 0.7f - 0.15f * float(texel % 4));
     for (size_t view = 0; view < samples.view_count(); ++view) {
       samples.alpha[samples.AlphaIndex(texel, view)] = 1.0f;
       for (size_t light = 0; light < samples.light_count(); ++light) {
-        samples.radiance[samples.RadianceIndex(texel, view, light)] = tint * samples.light_directions[light].z;
+        samples.radiance[samples.RadianceIndex(texel, view, light)] = tint * shape(view, light);
       }
     }
   }
-  const TabulatedFabric table = TabulateFabric(samples, true);
+  return TabulateFabric(samples, true);
+}
+
+// The trained figures are the evaluation's: EvaluateNeural on a few stored pairs of
+// level 1 (pooled) against the table.
+void ExpectEvaluationNearTheTable(const NeuralFabric& trained, const TabulatedFabric& table) {
+  const size_t views = table.view_count(), lights = table.light_count();
+  for (size_t texel = 0; texel < 4; ++texel) {
+    for (size_t view = 0; view < views; view += 5) {
+      for (size_t light = 0; light < lights; light += 7) {
+        const glm::vec4 value =
+            EvaluateNeural(trained, 1, texel, table.view_directions[view], table.light_directions[light]);
+        const glm::vec3 expected = table.levels[1].radiance[(texel * views + view) * lights + light];
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], expected[c], 0.03f + 0.05f * expected[c]);
+      }
+    }
+  }
+}
+
+// A diffuse table whose colour differs per texel (one of four tints): a latent per
+// texel and a small decoder hold it, so training drives the error towards zero
+// at every level, each fitted to its own pooled table.
+TEST(NeuralFabric, TrainingRecoversATableTheDecoderCanHoldAtEveryLevel) {
+  const std::vector<glm::vec3> lights = HemisphereGridDirections(16);
+  const TabulatedFabric table = TintedTable(16, 16, [&](size_t, size_t light) { return lights[light].z; });
   const NeuralFabric trained = TrainNeural(table, Training(10000), 2);
   const NeuralFabric barely = TrainNeural(table, Training(20), 2);
   ASSERT_EQ(trained.levels.size(), 3u);
@@ -46,17 +70,32 @@ TEST(NeuralFabric, TrainingRecoversATableTheDecoderCanHoldAtEveryLevel) {
     EXPECT_LT(trained.levels[j].relative_rmse, 0.015) << "level " << j;
     EXPECT_GT(barely.levels[j].relative_rmse, 0.1) << "level " << j;
   }
-  // The figure is the evaluation's: check it on a few pairs of level 1 (pooled).
-  for (size_t texel = 0; texel < 4; ++texel) {
-    for (size_t view = 0; view < 16; view += 5) {
-      for (size_t light = 0; light < 16; light += 3) {
-        const glm::vec4 value =
-            EvaluateNeural(trained, 1, texel, table.view_directions[view], table.light_directions[light]);
-        const glm::vec3 expected = table.levels[1].radiance[(texel * 16 + view) * 16 + light];
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], expected[c], 0.03f + 0.05f * expected[c]);
-      }
-    }
+  ExpectEvaluationNearTheTable(trained, table);
+}
+
+// A table whose shape is two separable terms — a lit term and shadows on a scattered
+// set of lights, deeper from some views — in four tints: a factored base of two
+// terms holds it, and the decoder over it has next to nothing left to learn, where
+// the decoder alone, trained as long, cannot follow the scattered shadows.
+TEST(NeuralFabric, AFactoredBaseHoldsWhatItsTermsCanAndTheDecoderFitsWhatTheyLeave) {
+  const std::vector<glm::vec3> views = HemisphereGridDirections(16), lights = HemisphereGridDirections(64);
+  const TabulatedFabric table = TintedTable(16, 64, [&](size_t view, size_t light) {
+    const float depth = 0.5f * (views[view].x + 1.0f);
+    const float shadowed = (light * 7) % 5 < 2 ? 1.0f : 0.0f;
+    return lights[light].z * (1.0f - depth * shadowed);
+  });
+  NeuralTraining with_base = Training(2000);
+  with_base.base_rank = 2;
+  const NeuralFabric based = TrainNeural(table, with_base, 2);
+  const NeuralFabric alone = TrainNeural(table, Training(2000), 2);
+  ASSERT_EQ(based.base.rank, 2u);
+  for (size_t j = 0; j < based.levels.size(); ++j) {
+    std::printf("level %zu: relative RMSE %.3f%% over the base, %.1f%% alone\n", j,
+                100.0 * based.levels[j].relative_rmse, 100.0 * alone.levels[j].relative_rmse);
+    EXPECT_LT(based.levels[j].relative_rmse, 0.01) << "level " << j;
+    EXPECT_GT(alone.levels[j].relative_rmse, 0.1) << "level " << j;
   }
+  ExpectEvaluationNearTheTable(based, table);
 }
 
 TEST(NeuralFabric, TrainingIsTheSameOnOneThreadAsOnTwoAndChangesWithTheSeed) {
@@ -69,9 +108,12 @@ TEST(NeuralFabric, TrainingIsTheSameOnOneThreadAsOnTwoAndChangesWithTheSeed) {
   EXPECT_NE(TrainNeural(table, other, 2).decoder.parameters, one.decoder.parameters);
 }
 
-TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
+// With and without a factored base (base_rank 4).
+class NeuralAssetWithBase : public testing::TestWithParam<uint32_t> {};
+
+TEST_P(NeuralAssetWithBase, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
   const NeuralAsset asset(TrainNeural(TabulateFabric(WithViewHeights(SyntheticSamples(4, 64, 64, true), 0.05f), true),
-                                      {8, 32, 2, 200, 1}));
+                                      {8, 32, 2, 200, 1, GetParam()}));
   const auto directory = std::filesystem::temp_directory_path() / "loom-neural-round-trip";
   std::filesystem::remove_all(directory);
   v1::PrecomputeSettings settings;
@@ -93,6 +135,12 @@ TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
     EXPECT_EQ(b.levels[j].alpha, a.levels[j].alpha);
     EXPECT_EQ(b.levels[j].relative_rmse, a.levels[j].relative_rmse);
   }
+  EXPECT_EQ(b.base.rank, GetParam());
+  ASSERT_EQ(b.base.levels.size(), a.base.levels.size());
+  for (size_t j = 0; j < a.base.levels.size(); ++j) {
+    EXPECT_EQ(b.base.levels[j].view_terms, a.base.levels[j].view_terms);
+    EXPECT_EQ(b.base.levels[j].light_terms, a.base.levels[j].light_terms);
+  }
   const PlaneProbe probe = ProbePlane(*read, 4, b.view_heights, [&](size_t texel, glm::vec3 view, glm::vec3 light) {
     return EvaluateNeural(b, 0, texel, view, light);
   });
@@ -100,6 +148,8 @@ TEST(NeuralAsset, RoundTripsInFullFloatsAndRendersAsItsCppEvaluation) {
   EXPECT_LT(probe.worst, 1e-3) << "over " << probe.compared << " pixels";
   std::printf("compared %d pixels, worst relative error %.5f%%\n", probe.compared, 100.0 * probe.worst);
 }
+
+INSTANTIATE_TEST_SUITE_P(BaseRank, NeuralAssetWithBase, testing::Values(0u, 4u));
 
 // A manifest edited by hand or corrupted is refused naming the field, before any
 // image is read.
@@ -124,6 +174,8 @@ TEST(NeuralAsset, ABadDecoderInTheManifestIsRefusedNamingTheField) {
               testing::HasSubstr("decoder.hidden is not a multiple of 4 in [4, 64]"));
   EXPECT_THAT(refusal([](nlohmann::json& m) { m["decoder"]["steps"] = 1e300; }),
               testing::HasSubstr("decoder.steps is not a whole number in [1, 1000000]"));
+  EXPECT_THAT(refusal([](nlohmann::json& m) { m["decoder"]["base_rank"] = 9; }),
+              testing::HasSubstr("decoder.base_rank is not a whole number in [0, 8]"));
   EXPECT_THAT(refusal([](nlohmann::json& m) { m["decoder"]["parameters"][3] = 1e300; }),
               testing::HasSubstr("decoder.parameters holds a number that is not a finite float"));
   EXPECT_THAT(refusal([](nlohmann::json& m) { m["decoder"]["parameters"].erase(0); }),
@@ -156,11 +208,13 @@ TEST(NeuralSettings, DefaultsBoundsAndKey) {
                                     "multiple of 4\n");
   EXPECT_EQ(issues_of("hidden", 128), "precompute.neural.hidden: 128 exceeds 64\n");
   EXPECT_EQ(issues_of("steps", 2000000), "precompute.neural.steps: 2000000 exceeds 1000000\n");
+  EXPECT_EQ(issues_of("base_rank", 9), "precompute.neural.base_rank: 9 exceeds 8\n");
+  EXPECT_EQ(resolved.neural().base_rank(), 0u);
 
   v1::FabricSpec fabric;
   fabric.mutable_knit();
   const std::string key = FabricKey(fabric, settings);
-  for (const char* field : {"channels", "hidden", "steps"}) {
+  for (const char* field : {"channels", "hidden", "steps", "base_rank"}) {
     v1::PrecomputeSettings changed = resolved;
     const auto* descriptor = changed.neural().GetDescriptor()->FindFieldByName(field);
     changed.mutable_neural()->GetReflection()->SetUInt32(changed.mutable_neural(), descriptor, 4);
