@@ -5,8 +5,11 @@
 // Asset directory:
 //   latents.exr    z, channels z00, z01, …: MIP level ℓ is level ℓ's res_ℓ² latents
 //   views.exr      the view atlas: the gain (the table's ambient response) RGB, alpha A
+//   view_terms.exr, light_terms.exr
+//                  with a factored base (decoder.base_rank > 0): its terms, as the
+//                  factored method stores them (factored_method.h)
 //   manifest.json  method, asset version, key, settings, the decoder's sizes and
-//                  parameters, per-level training error, checksums (last)
+//                  parameters, base_rank, per-level training error, checksums (last)
 // Latents in half floats with settings.half_float, full floats otherwise; the
 // decoder in full floats.
 
