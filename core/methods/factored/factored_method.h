@@ -39,7 +39,6 @@ class FactoredTermTextures {
   FactoredTermTextures(const FactoredFabric& fabric, bool half);
   // The view terms to unit `unit`, the light terms to unit + 1.
   void Bind(const gl::ShaderProgram& program, int unit) const;
-  static constexpr int kUnits = 2;
   // "#define LOOM_FACTORED_RANK K\n": the loop bound factored_terms.glsl is compiled with.
   std::string ShaderDefines() const;
 

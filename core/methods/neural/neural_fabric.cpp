@@ -143,8 +143,9 @@ void Summarise(const NeuralDecoder& decoder, const FactoredFabric& base, size_t 
       const glm::vec3 gain = table.ambient[texel * v_count + view] / std::numbers::pi_v<float>;
       for (size_t l = 0; l < l_count; ++l) {
         const glm::vec3 target = table.radiance[(texel * v_count + view) * l_count + l];
+        const float base_shape = StoredShape(base, j, texel, view, l);
         for (int c = 0; c < 3; ++c) {
-          const float shape = a.y(c, Eigen::Index(l)) + StoredShape(base, j, texel, view, l);
+          const float shape = a.y(c, Eigen::Index(l)) + base_shape;
           const float value = gain[c] * std::max(shape, 0.0f);
           residual[texel] += double(value - target[c]) * double(value - target[c]);
           total[texel] += target[c];
