@@ -103,6 +103,17 @@ ValidationIssues ValidateTile(const FabricTile& tile) {
     if (!std::isfinite(material.specular_exponent) || material.specular_exponent < 0.0f) {
       report(at + "specular_exponent", Cat(material.specular_exponent, " is not a finite number ≥ 0"));
     }
+    if (material.model == YarnShadingModel::kMicroflake) {
+      if (!(material.roughness > 0.0f && material.roughness <= 1.0f)) {
+        report(at + "roughness", Cat(material.roughness, " is not in (0, 1]"));
+      }
+      if (!(material.height_scale >= 0.0f && material.height_scale <= kMaxHeightScale)) {
+        report(at + "height_scale", Cat(material.height_scale, " is not in [0, ", kMaxHeightScale, "]"));
+      }
+      if (!(material.lambert_blend >= 0.0f && material.lambert_blend <= 1.0f)) {
+        report(at + "lambert_blend", Cat(material.lambert_blend, " is not in [0, 1]"));
+      }
+    }
   }
   return issues;
 }

@@ -24,12 +24,17 @@ struct YarnCurve {
   bool closed = false;
 };
 
-// The yarn material (DESIGN.md "Yarn shading"): Lambertian diffuse plus a
-// Kajiya-Kay fibre lobe about the yarn tangent, RGB.
+// The yarn material (docs/yarn_shading.md), RGB: Lambertian diffuse plus a
+// Kajiya-Kay fibre lobe about the yarn tangent, or the fibre-microflake model.
+enum class YarnShadingModel { kKajiyaKay, kMicroflake };
 struct YarnMaterial {
+  YarnShadingModel model = YarnShadingModel::kKajiyaKay;
   glm::vec3 diffuse_albedo{0.5f};
   glm::vec3 specular_albedo{0.04f};
-  float specular_exponent = 32.0f;  // from YarnSpec.roughness
+  float specular_exponent = 32.0f;  // Kajiya-Kay: from YarnSpec.roughness
+  float roughness = 0.5f;           // microflake: α
+  float height_scale = 1.0f;        // microflake: β
+  float lambert_blend = 1.0f;       // microflake: w
 };
 
 struct FabricTile {

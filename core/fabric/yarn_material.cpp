@@ -15,6 +15,12 @@ YarnMaterial MakeYarnMaterial(const v1::YarnSpec& yarn) {
   material.diffuse_albedo = glm::vec3(diffuse.r(), diffuse.g(), diffuse.b());
   material.specular_albedo = glm::vec3(specular.r(), specular.g(), specular.b());
   material.specular_exponent = SpecularExponentFromRoughness(yarn.roughness());
+  if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) {
+    material.model = YarnShadingModel::kMicroflake;
+    material.roughness = yarn.roughness();
+    material.height_scale = yarn.height_scale();
+    material.lambert_blend = yarn.lambert_blend();
+  }
   return material;
 }
 

@@ -27,6 +27,8 @@ constexpr float kDefaultKnitYarnRadius = 0.07f;
 constexpr float kDefaultWovenYarnRadius = 0.25f;
 constexpr uint32_t kDefaultPlies = 1;
 constexpr float kDefaultRoughness = 0.5f;
+constexpr float kDefaultHeightScale = 1.0f;   // microflake: the geometry's own frame
+constexpr float kDefaultLambertBlend = 1.0f;  // microflake: Lambert about the ply normal
 constexpr float kDefaultDiffuseAlbedo = 0.5f;
 constexpr float kDefaultSpecularAlbedo = 0.04f;  // a dielectric fibre at normal incidence
 constexpr uint32_t kDefaultRibWidth = 1;
@@ -74,6 +76,14 @@ void ApplyYarnDefaults(v1::YarnSpec& yarn, float default_radius) {
   if (yarn.roughness() == 0) yarn.set_roughness(kDefaultRoughness);
   if (!yarn.has_diffuse_albedo()) SetGrey(yarn.mutable_diffuse_albedo(), kDefaultDiffuseAlbedo);
   if (!yarn.has_specular_albedo()) SetGrey(yarn.mutable_specular_albedo(), kDefaultSpecularAlbedo);
+  if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) {
+    if (!yarn.has_height_scale()) yarn.set_height_scale(kDefaultHeightScale);
+    if (!yarn.has_lambert_blend()) yarn.set_lambert_blend(kDefaultLambertBlend);
+  } else if (yarn.shading() == v1::YARN_SHADING_KAJIYA_KAY) {
+    // Kajiya-Kay spelled out is Kajiya-Kay unset: one key, the one yarns had before
+    // the field existed.
+    yarn.clear_shading();
+  }
 }
 
 void ApplyKnitDefaults(v1::KnitSpec& knit) {

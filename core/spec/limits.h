@@ -79,6 +79,9 @@ inline constexpr float kMaxKnitYarnRadius = 0.08f;
 inline constexpr uint32_t kMaxPlies = 8;
 // Ply twist angle in degrees, either handedness.
 inline constexpr float kMaxTwistDegrees = 90.0f;
+// Microflake yarn shading: the height-field scaling β of the neural woven paper's
+// Table 2 (sampled there in [0, 2]).
+inline constexpr float kMaxHeightScale = 2.0f;
 // Energy conservation: diffuse + specular albedo per channel may exceed 1 by float
 // rounding only (0.96 + 0.04 is not exactly 1 in float).
 inline constexpr float kAlbedoSumTolerance = 1e-5f;

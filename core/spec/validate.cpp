@@ -291,6 +291,15 @@ void CheckYarn(const v1::YarnSpec& yarn, bool knit, const IssueCollector& at) {
   }
   at.Above("roughness", yarn.roughness(), 0.0f);
   at.Max("roughness", yarn.roughness(), 1.0f);
+  if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) {
+    at.Range("height_scale", yarn.height_scale(), 0.0f, kMaxHeightScale);
+    at.Range("lambert_blend", yarn.lambert_blend(), 0.0f, 1.0f);
+  } else {
+    for (const auto& [field, set] : {std::pair{"height_scale", yarn.has_height_scale()},
+                                     std::pair{"lambert_blend", yarn.has_lambert_blend()}}) {
+      if (set) at.Report(field, "only for shading YARN_SHADING_MICROFLAKE");
+    }
+  }
 }
 
 // Loops per tile side: within the cap and a whole number of pattern repeats.

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/acquire/fibre_microflake_brdf.h"
 #include "core/fabric/fabric_tile.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
@@ -80,6 +81,29 @@ TEST(Acquisition, WhiteLambertianFlatPatchHasRadianceAlbedoOverPiTimesCosine) {
       EXPECT_NEAR(s.radiance[s.RadianceIndex(texel, 4, 4)].r, glm::one_over_pi<float>(), 0.01f / glm::pi<float>());
     }
   }
+}
+
+TEST(Acquisition, FlatPatchInTheMicroflakeModelHasRadianceItsBrdfTimesCosine) {
+  // The yarn's model reaches acquisition: a flat patch of microflake yarn along x.
+  YarnMaterial material;
+  material.model = YarnShadingModel::kMicroflake;
+  material.diffuse_albedo = glm::vec3(0.3f);
+  material.specular_albedo = glm::vec3(0.6f);
+  material.roughness = 0.3f;
+  const FabricTile patch = FlatPatch(0.25f, material);
+  const FibreMicroflakeBrdf brdf(material);
+  const RadianceSamples s = Acquire(patch, Settings(4, 16, 16, 0));
+  float largest_specular = 0.0f;
+  for (size_t view = 0; view < s.view_count(); ++view) {
+    for (size_t light = 0; light < s.light_count(); ++light) {
+      const glm::vec3 l = s.light_directions[light], v = s.view_directions[view];
+      const float expected = brdf.Evaluate({0, 0, 1}, {1, 0, 0}, l, v).r * l.z;
+      const float radiance = s.radiance[s.RadianceIndex(0, view, light)].r;
+      EXPECT_NEAR(radiance, expected, 1e-3f * expected) << view << " " << light;
+      largest_specular = std::max(largest_specular, expected - 0.3f / glm::pi<float>() * l.z);
+    }
+  }
+  EXPECT_GT(largest_specular, 0.05f);  // the specular term is there to be seen
 }
 
 // --- Holes -----------------------------------------------------------------------------------

@@ -2,142 +2,35 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <glm/gtc/constants.hpp>
-
-#include "core/acquire/hemisphere_directions.h"
+#include "core/fabric/yarn_material.h"
+#include "core/spec/defaults.h"
 
 namespace loom {
 namespace {
 
-constexpr float kExponents[] = {0.0f, 1.0f, 4.0f, 32.0f, 256.0f, 4096.0f};
-
-// Unit tangents in the surface plane and tilted out of it.
-std::vector<glm::vec3> Tangents() {
-  std::vector<glm::vec3> tangents;
-  for (float phi = 0.0f; phi < glm::pi<float>(); phi += glm::pi<float>() / 4) {
-    for (float tilt : {0.0f, 0.4f, 1.2f}) {
-      tangents.push_back(glm::normalize(glm::vec3(std::cos(phi), std::sin(phi), tilt)));
-    }
-  }
-  return tangents;
+v1::YarnSpec Yarn(v1::YarnShading shading) {
+  v1::FabricSpec fabric;
+  fabric.mutable_woven();
+  v1::YarnSpec& yarn = *fabric.add_yarns();
+  if (shading != v1::YARN_SHADING_UNSPECIFIED) yarn.set_shading(shading);
+  yarn.set_roughness(0.3f);
+  return WithDefaults(fabric).yarns(0);
 }
 
-YarnMaterial WhiteMaterial(float specular, float exponent) {
-  YarnMaterial m;
-  m.specular_albedo = glm::vec3(specular);
-  m.diffuse_albedo = glm::vec3(1.0f - specular);
-  m.specular_exponent = exponent;
-  return m;
-}
-
-TEST(YarnShading, NormalisationMatchesClosedForms) {
-  // N(p) = 1/(2 I(p)) with I(0) = π, I(1) = 2, I(2) = π/2.
-  EXPECT_NEAR(KajiyaKayNormalisation(0), 1 / glm::two_pi<float>(), 1e-6f);
-  EXPECT_NEAR(KajiyaKayNormalisation(1), 0.25f, 1e-6f);
-  EXPECT_NEAR(KajiyaKayNormalisation(2), glm::one_over_pi<float>(), 1e-6f);
-  EXPECT_TRUE(std::isfinite(KajiyaKayNormalisation(1e7f)));
-}
-
-TEST(YarnShading, LambertianPartIsAlbedoOverPi) {
-  const YarnBrdf brdf(WhiteMaterial(0.0f, 32.0f));
+TEST(YarnShading, EachYarnShadesWithTheModelItsSpecNames) {
   const glm::vec3 n(0, 0, 1), t(1, 0, 0);
-  for (const glm::vec3& l : HemisphereGridDirections(16)) {
-    for (const glm::vec3& v : HemisphereGridDirections(16)) {
-      EXPECT_EQ(brdf.Evaluate(n, t, l, v), glm::vec3(glm::one_over_pi<float>()));
-    }
-  }
-  EXPECT_EQ(brdf.Evaluate(n, t, {0, 0, -1}, {0, 0, 1}), glm::vec3(0.0f));  // light below
-  EXPECT_EQ(brdf.Evaluate(n, t, {0, 0, 1}, {0.6f, 0, -0.8f}), glm::vec3(0.0f));  // view below
-}
-
-TEST(YarnShading, ReflectedRadianceExceedsTheWhiteLambertianBoundByAtMostTheSpecularShare) {
-  // Under unit irradiance the reflected radiance is f_r·cos θ_l; with ρ_d + ρ_s = 1
-  // it never exceeds cos θ_l/π by more than ρ_s·(N(p) − 1/π)·cos θ_l.
-  const glm::vec3 n(0, 0, 1);
-  const auto directions = HemisphereGridDirections(16 * 16);
-  for (float specular : {0.0f, 0.04f, 0.5f, 1.0f}) {
-    for (float exponent : kExponents) {
-      const YarnBrdf brdf(WhiteMaterial(specular, exponent));
-      const float share = specular * (KajiyaKayNormalisation(exponent) - glm::one_over_pi<float>());
-      float worst = -1.0f;
-      for (const glm::vec3& t : Tangents()) {
-        for (const glm::vec3& l : directions) {
-          for (const glm::vec3& v : directions) {
-            const glm::vec3 radiance = brdf.Evaluate(n, t, l, v) * l.z;
-            const float bound = (glm::one_over_pi<float>() + std::max(share, 0.0f)) * l.z;
-            worst = std::max(worst, radiance.r - bound);
-          }
-        }
-      }
-      EXPECT_LE(worst, 1e-6f) << "specular " << specular << " exponent " << exponent;
-    }
-  }
-}
-
-// ∫ f_r(l, v) cos θ_v dω_v over the hemisphere, as the mean over an equal-area
-// grid of view directions (each cell 2π/count sr).
-float DirectionalAlbedo(const YarnBrdf& brdf, glm::vec3 t, glm::vec3 l, const std::vector<glm::vec3>& views) {
-  double sum = 0.0;
-  for (const glm::vec3& v : views) sum += brdf.Evaluate({0, 0, 1}, t, l, v).r * v.z;
-  return static_cast<float>(sum * glm::two_pi<double>() / static_cast<double>(views.size()));
-}
-
-TEST(YarnShading, DirectionalAlbedoIsAtMostOne) {
-  const auto lights = HemisphereGridDirections(5 * 5);
-  const auto views = HemisphereGridDirections(128 * 128);
-  for (float exponent : {1.0f, 32.0f, 256.0f}) {
-    // The fibre lobe alone, and a white material sharing its energy.
-    for (float specular : {1.0f, 0.3f}) {
-      const YarnBrdf brdf(WhiteMaterial(specular, exponent));
-      float largest = 0.0f;
-      for (const glm::vec3& t : Tangents()) {
-        for (const glm::vec3& l : lights) largest = std::max(largest, DirectionalAlbedo(brdf, t, l, views));
-      }
-      EXPECT_LE(largest, 1.0f + 2e-3f) << "specular " << specular << " exponent " << exponent;
-      EXPECT_GT(largest, 1.0f - specular * 0.4f) << "specular " << specular << " exponent " << exponent;
-    }
-  }
-}
-
-TEST(YarnShading, LobeAlbedoBoundIsTightForLightPerpendicularToTheFibre) {
-  // Light at the zenith, fibre in the surface: the lobe's albedo is exactly
-  // I(p+2)/I(p) = (p+1)/(p+2), so the normalisation wastes no energy.
-  const auto views = HemisphereGridDirections(400 * 400);
-  for (float exponent : {0.0f, 1.0f, 8.0f, 64.0f}) {
-    const YarnBrdf brdf(WhiteMaterial(1.0f, exponent));
-    const float albedo = DirectionalAlbedo(brdf, {1, 0, 0}, {0, 0, 1}, views);
-    const float expected = (exponent + 1) / (exponent + 2);
-    EXPECT_NEAR(albedo, expected, 0.005f) << exponent;
-  }
-}
-
-TEST(YarnShading, LobePeaksOnTheMirrorCone) {
-  const YarnBrdf brdf(WhiteMaterial(1.0f, 64.0f));
-  const glm::vec3 n(0, 0, 1), t(1, 0, 0);
-  const glm::vec3 l = glm::normalize(glm::vec3(0.5f, 0.2f, 0.8f));
-  // Mirror cone: t·v = −t·l. Both of these are on it, this one is not.
-  const glm::vec3 on_cone = glm::normalize(glm::vec3(-0.5f, -0.2f, 0.8f));
-  const glm::vec3 also_on_cone = glm::vec3(-l.x, std::sqrt(1 - l.x * l.x - 0.3f * 0.3f), 0.3f);
-  const glm::vec3 off_cone = glm::normalize(glm::vec3(0.5f, -0.2f, 0.8f));
-  const float peak = KajiyaKayNormalisation(64.0f);
-  EXPECT_NEAR(brdf.Evaluate(n, t, l, on_cone).r, peak, 1e-4f);
-  EXPECT_NEAR(brdf.Evaluate(n, t, l, also_on_cone).r, peak, 1e-4f);
-  EXPECT_LT(brdf.Evaluate(n, t, l, off_cone).r, 0.01f * peak);
-}
-
-TEST(YarnShading, DegenerateInputsStayFinite) {
-  YarnMaterial m = WhiteMaterial(0.5f, 1e6f);
-  const YarnBrdf brdf(m);
-  const glm::vec3 n(0, 0, 1);
-  for (const glm::vec3& t : {glm::vec3(0.0f), glm::vec3(0, 0, 1), glm::vec3(1.0000001f, 0, 0)}) {
-    for (const glm::vec3& l : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 1e-7f)}) {
-      const glm::vec3 f = brdf.Evaluate(n, t, l, l);
-      EXPECT_TRUE(std::isfinite(f.r) && f.r >= 0.0f);
-    }
-  }
-  // No fibre direction: no lobe, only the diffuse part.
-  EXPECT_EQ(brdf.Evaluate(n, glm::vec3(0.0f), {0, 0, 1}, {0, 0, 1}), brdf.diffuse());
+  const glm::vec3 l = glm::normalize(glm::vec3(0.2f, 0.5f, 1)), v = glm::normalize(glm::vec3(-0.3f, -0.4f, 1));
+  const YarnMaterial kajiya_kay = MakeYarnMaterial(Yarn(v1::YARN_SHADING_UNSPECIFIED));
+  const YarnMaterial microflake = MakeYarnMaterial(Yarn(v1::YARN_SHADING_MICROFLAKE));
+  EXPECT_EQ(kajiya_kay.model, YarnShadingModel::kKajiyaKay);
+  EXPECT_EQ(microflake.model, YarnShadingModel::kMicroflake);
+  EXPECT_EQ(microflake.roughness, 0.3f);
+  EXPECT_EQ(microflake.height_scale, 1.0f);  // the defaults
+  EXPECT_EQ(microflake.lambert_blend, 1.0f);
+  EXPECT_EQ(YarnBrdf(kajiya_kay).Evaluate(n, t, l, v), KajiyaKayBrdf(kajiya_kay).Evaluate(n, t, l, v));
+  EXPECT_EQ(YarnBrdf(microflake).Evaluate(n, t, l, v), FibreMicroflakeBrdf(microflake).Evaluate(n, t, l, v));
+  EXPECT_NE(YarnBrdf(microflake).Evaluate(n, t, l, v), YarnBrdf(kajiya_kay).Evaluate(n, t, l, v));
+  EXPECT_EQ(YarnBrdf(microflake).diffuse(), YarnBrdf(kajiya_kay).diffuse());
 }
 
 }  // namespace

@@ -120,6 +120,8 @@ TEST(FabricKey, ChangesWhenAnySettingChanges) {
     const std::string fabric_base = FabricKey(fabric, settings);
     v1::FabricSpec fabric_root = fabric;
     ForEachScalarField(&fabric_root, "fabric", [&](const std::string& label, const std::function<void(Message*)>& mutate) {
+      // Its next value, Kajiya-Kay, is what unset means: YarnShadingIsPartOfTheKey.
+      if (label.ends_with(".shading")) return;
       v1::FabricSpec changed = fabric;
       mutate(&changed);
       // Setting the other structure of the oneof replaces this one: also a change.
@@ -128,6 +130,20 @@ TEST(FabricKey, ChangesWhenAnySettingChanges) {
     }, [](Message* m) { return m; });
   }
   EXPECT_GT(checked, 40);
+}
+
+TEST(FabricKey, YarnShadingIsPartOfTheKeyAndKajiyaKayIsUnset) {
+  const std::string unset = FabricKey(Fabric(R"({"woven": {}})"), {});
+  EXPECT_EQ(FabricKey(Fabric(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_KAJIYA_KAY"}]})"), {}), unset);
+  const std::string microflake = FabricKey(Fabric(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE"}]})"), {});
+  EXPECT_NE(microflake, unset);
+  EXPECT_EQ(FabricKey(Fabric(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", "height_scale": 1,
+                                  "lambert_blend": 1}]})"), {}), microflake);  // the defaults
+  for (const char* changed : {R"("height_scale": 0.5)", R"("lambert_blend": 0.5)", R"("roughness": 0.2)"}) {
+    const std::string json =
+        std::string(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", )") + changed + "}]}";
+    EXPECT_NE(FabricKey(Fabric(json.c_str()), {}), microflake) << changed;
+  }
 }
 
 TEST(FabricKey, AssetFormatVersionIsPartOfTheCanonicalForm) {

@@ -1,0 +1,63 @@
+#include "core/acquire/fibre_microflake_brdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+
+namespace loom {
+namespace {
+
+glm::vec3 UnitOr(glm::vec3 v, glm::vec3 fallback, bool& ok) {
+  const float length2 = glm::dot(v, v);
+  ok = length2 > 1e-12f;
+  return ok ? v / std::sqrt(length2) : fallback;
+}
+
+}  // namespace
+
+// S has eigenvalue α² along the fibre and 1 across it, S⁻¹ 1/α² and 1, so for a unit
+// vector ω with c = ω·fibre: ωᵀSω = 1 − (1 − α²)c², ωᵀS⁻¹ω = 1 + (1/α² − 1)c².
+float FibreMicroflakeD(glm::vec3 h, glm::vec3 fibre, float alpha) {
+  const float c = glm::dot(h, fibre);
+  const float q = 1.0f + (1.0f / (alpha * alpha) - 1.0f) * c * c;
+  return 1.0f / (glm::pi<float>() * alpha * q * q);
+}
+
+float FibreMicroflakeSigma(glm::vec3 w, glm::vec3 fibre, float alpha) {
+  const float c = glm::dot(w, fibre);
+  return std::sqrt(std::max(1.0f - (1.0f - alpha * alpha) * c * c, alpha * alpha));
+}
+
+PlyFrame ScaledPlyFrame(glm::vec3 normal, glm::vec3 tangent, float height_scale) {
+  PlyFrame frame;
+  bool ok = false;
+  frame.normal = UnitOr(glm::vec3(height_scale * normal.x, height_scale * normal.y, normal.z), normal, ok);
+  bool in_surface = false;
+  const glm::vec3 along = UnitOr(tangent - normal * glm::dot(normal, tangent), glm::vec3(0.0f), in_surface);
+  if (!in_surface) return frame;
+  frame.fibre = UnitOr(glm::vec3(along.x, along.y, height_scale * along.z), glm::vec3(0.0f), frame.has_fibre);
+  return frame;
+}
+
+FibreMicroflakeBrdf::FibreMicroflakeBrdf(const YarnMaterial& material)
+    : diffuse_(material.diffuse_albedo * glm::one_over_pi<float>()),
+      specular_(material.specular_albedo),
+      alpha_(material.roughness),
+      height_scale_(material.height_scale),
+      blend_(material.lambert_blend) {}
+
+glm::vec3 FibreMicroflakeBrdf::Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
+  const float mu_l = glm::dot(normal, l);
+  const float mu_v = glm::dot(normal, v);
+  if (!(mu_l > 0.0f && mu_v > 0.0f)) return glm::vec3(0.0f);
+  const PlyFrame ply = ScaledPlyFrame(normal, tangent, height_scale_);
+  const float ply_cosine = std::max(glm::dot(l, ply.normal), 0.0f);
+  const glm::vec3 diffuse = diffuse_ * (blend_ * ply_cosine / mu_l + (1.0f - blend_));
+  if (!ply.has_fibre) return diffuse;
+  const glm::vec3 h = glm::normalize(l + v);  // l + v ≠ 0: both are above the horizon
+  const float lambda = FibreMicroflakeSigma(l, ply.fibre, alpha_) / mu_l + FibreMicroflakeSigma(v, ply.fibre, alpha_) / mu_v;
+  const float attenuation = -std::expm1(-kMicroflakeOpticalDepth * lambda) / lambda;
+  return diffuse + specular_ * (FibreMicroflakeD(h, ply.fibre, alpha_) * attenuation / (4.0f * mu_l * mu_v));
+}
+
+}  // namespace loom
