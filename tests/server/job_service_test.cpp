@@ -246,6 +246,24 @@ TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) 
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
 
+// A yarn in the fibre-microflake model (issue 24) goes through the service like any
+// other: its own cache entry, beside the Kajiya-Kay knit's.
+TEST_F(ServiceTest, AMicroflakeYarnPrecomputesThroughTheServiceUnderItsOwnKey) {
+  StartServer();
+  client::JobClient client = Client();
+  v1::SubmitJobRequest request = PrecomputeRequest();
+  v1::YarnSpec& yarn = *request.mutable_precompute()->mutable_fabric()->add_yarns();
+  yarn.set_shading(v1::YARN_SHADING_MICROFLAKE);
+  yarn.set_height_scale(0.5f);
+  const v1::Job microflake = WaitUntilEnded(client, client.Submit(request).job().id());
+  ASSERT_EQ(microflake.state(), v1::JOB_STATE_SUCCEEDED) << microflake.error();
+  EXPECT_EQ(microflake.fabric_key(), FabricKey(request.precompute().fabric(), TinySettings()));
+  const v1::Job kajiya_kay = WaitUntilEnded(client, client.Submit(PrecomputeRequest()).job().id());
+  ASSERT_EQ(kajiya_kay.state(), v1::JOB_STATE_SUCCEEDED) << kajiya_kay.error();
+  EXPECT_NE(kajiya_kay.fabric_key(), microflake.fabric_key());
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 2);
+}
+
 // For every fabric method: the worker precomputes the method's asset, and the served
 // frame equals the core render of the same scene from that cached asset.
 TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameSceneWithEveryMethod) {
@@ -343,6 +361,10 @@ TEST_F(ServiceTest, BadRequestsAreInvalidArgumentNamingTheFieldAndStoreNothing) 
   v1::SubmitJobRequest bad_settings = PrecomputeRequest();
   bad_settings.mutable_precompute()->mutable_settings()->set_spatial_resolution(48);
   expect_invalid(bad_settings, "precompute.spatial_resolution");
+
+  v1::SubmitJobRequest kajiya_kay_blend = PrecomputeRequest();
+  kajiya_kay_blend.mutable_precompute()->mutable_fabric()->add_yarns()->set_lambert_blend(0.5f);
+  expect_invalid(kajiya_kay_blend, "yarns[0].lambert_blend: only for shading YARN_SHADING_MICROFLAKE");
 
   v1::SceneSpec client_path = TinyScene();
   client_path.mutable_objects(0)->mutable_mesh()->set_obj_path("/etc/passwd");
