@@ -31,20 +31,22 @@ ReferenceFrame RenderJson(const std::string& json, unsigned threads = 2) {
 constexpr const char* kTopCamera = R"("camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 2,
     "position": {"x": 0, "y": 0, "z": 5}, "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10})";
 
-// A white plain weave: diffuse albedo 0.8, no fibre lobe.
-std::string WhiteWeave(float gap) {
-  return R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": )" + std::to_string(gap) +
-         R"(}, "yarns": [{"diffuse_albedo": {"r": 0.8, "g": 0.8, "b": 0.8}, "specular_albedo": {"r": 0, "g": 0, "b": 0}}]})";
+// A white plain weave: diffuse albedo 0.8, no fibre lobe; or a yarn given in JSON.
+constexpr const char* kWhiteYarn =
+    R"({"diffuse_albedo": {"r": 0.8, "g": 0.8, "b": 0.8}, "specular_albedo": {"r": 0, "g": 0, "b": 0}})";
+std::string WhiteWeave(float gap, const std::string& yarn = kWhiteYarn) {
+  return R"({"woven": {"pattern": "WEAVE_PATTERN_PLAIN", "gap_ratio": )" + std::to_string(gap) + R"(}, "yarns": [)" +
+         yarn + "]}";
 }
 
 // That weave on the 2 × 2 plane, 8 × 8 tiles, under a zenith light; optionally over a red plane.
-std::string ClothScene(float gap, bool red_floor, int size, int samples) {
+std::string ClothScene(float gap, bool red_floor, int size, int samples, const std::string& yarn = kWhiteYarn) {
   const std::string floor = red_floor ? R"(, {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
       "transform": {"translation": {"z": -0.5}, "scale": {"x": 4, "y": 4, "z": 1}}, "base_colour": {"r": 1, "g": 0, "b": 0}})"
                                       : "";
   const std::string side = std::to_string(size);
   return R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
-      "fabric": {"fabric": )" + WhiteWeave(gap) + R"(, "repeat_u": 8, "repeat_v": 8}})" + floor + "], " + kTopCamera + R"(,
+      "fabric": {"fabric": )" + WhiteWeave(gap, yarn) + R"(, "repeat_u": 8, "repeat_v": 8}})" + floor + "], " + kTopCamera + R"(,
     "lights": [{"direction": {"x": 0, "y": 0, "z": 1}, "intensity": 1}],
     "render": {"method": "RENDER_METHOD_REFERENCE", "width": )" + side + R"(, "height": )" + side +
          R"(, "reference_samples": )" + std::to_string(samples) + "}}";
@@ -66,9 +68,17 @@ TEST(ReferenceRenderer, LambertianPlaneUnderAZenithLightIsAlbedoOverPiTimesIrrad
 }
 
 // Ties the reference to acquisition: the same fabric seen head-on under a zenith
-// light has the mean radiance of acquisition's samples for the zenith view and light.
-TEST(ReferenceRenderer, ClothPlaneMatchesAcquisitionAtTheZenith) {
-  const ReferenceFrame frame = RenderJson(ClothScene(0.0f, false, 48, 16));
+// light has the mean radiance of acquisition's samples for the zenith view and light,
+// whichever model its yarn shades with.
+class ReferenceRendererYarn : public ::testing::TestWithParam<const char*> {};
+INSTANTIATE_TEST_SUITE_P(
+    Models, ReferenceRendererYarn,
+    ::testing::Values(kWhiteYarn, R"({"shading": "YARN_SHADING_MICROFLAKE", "roughness": 0.3, "height_scale": 0.5,
+        "diffuse_albedo": {"r": 0.5, "g": 0.5, "b": 0.5}, "specular_albedo": {"r": 0.5, "g": 0.5, "b": 0.5}})"),
+    [](const ::testing::TestParamInfo<const char*>& info) { return info.index == 0 ? "KajiyaKay" : "Microflake"; });
+
+TEST_P(ReferenceRendererYarn, ClothPlaneMatchesAcquisitionAtTheZenith) {
+  const ReferenceFrame frame = RenderJson(ClothScene(0.0f, false, 48, 16, GetParam()));
   double rendered = 0.0;
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 48; ++x) rendered += frame.image.at(x, y, 0);
@@ -80,7 +90,8 @@ TEST(ReferenceRenderer, ClothPlaneMatchesAcquisitionAtTheZenith) {
   settings.set_light_directions(9);
   settings.set_supersampling(4);
   const RadianceSamples samples =
-      Acquire(BuildFabricTile(WithDefaults(ParseSpecJson<v1::FabricSpec>(WhiteWeave(0.0f), "fabric"))), settings);
+      Acquire(BuildFabricTile(WithDefaults(ParseSpecJson<v1::FabricSpec>(WhiteWeave(0.0f, GetParam()), "fabric"))),
+              settings);
   constexpr size_t kZenith = 4;
   ASSERT_NEAR(samples.view_directions[kZenith].z, 1.0f, 1e-6f);
   ASSERT_NEAR(samples.light_directions[kZenith].z, 1.0f, 1e-6f);
