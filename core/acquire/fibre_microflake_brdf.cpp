@@ -48,16 +48,22 @@ FibreMicroflakeBrdf::FibreMicroflakeBrdf(const YarnMaterial& material)
 
 glm::vec3 FibreMicroflakeBrdf::Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
   const float mu_l = glm::dot(normal, l);
-  const float mu_v = glm::dot(normal, v);
-  if (!(mu_l > 0.0f && mu_v > 0.0f)) return glm::vec3(0.0f);
+  if (!(mu_l > 0.0f)) return glm::vec3(0.0f);
   const PlyFrame ply = ScaledPlyFrame(normal, tangent, height_scale_);
   const float ply_cosine = std::max(glm::dot(l, ply.normal), 0.0f);
   const glm::vec3 diffuse = diffuse_ * (blend_ * ply_cosine / mu_l + (1.0f - blend_));
-  if (!ply.has_fibre) return diffuse;
-  const glm::vec3 h = glm::normalize(l + v);  // l + v ≠ 0: both are above the horizon
-  const float lambda = FibreMicroflakeSigma(l, ply.fibre, alpha_) / mu_l + FibreMicroflakeSigma(v, ply.fibre, alpha_) / mu_v;
-  const float attenuation = -std::expm1(-kMicroflakeOpticalDepth * lambda) / lambda;
-  return diffuse + specular_ * (FibreMicroflakeD(h, ply.fibre, alpha_) * attenuation / (4.0f * mu_l * mu_v));
+  bool has_half = false;
+  const glm::vec3 h = UnitOr(l + v, glm::vec3(0.0f), has_half);
+  if (!ply.has_fibre || !has_half) return diffuse;
+  // G/μ_v = (1 − e^{−TρΛ}) / (Λμ_v) with Λμ_v = σ_l μ_v/μ_l + σ_v: finite as μ_v → 0⁺, where
+  // it is 1/σ_v, the value a view below n's horizon (a silhouette's) takes.
+  const float mu_v = std::max(glm::dot(normal, v), 0.0f);
+  const float sigma_l = FibreMicroflakeSigma(l, ply.fibre, alpha_);
+  const float sigma_v = FibreMicroflakeSigma(v, ply.fibre, alpha_);
+  const float lambda_mu_v = sigma_l * mu_v / mu_l + sigma_v;
+  const float attenuation_over_mu_v =
+      mu_v > 0.0f ? -std::expm1(-kMicroflakeOpticalDepth * lambda_mu_v / mu_v) / lambda_mu_v : 1.0f / sigma_v;
+  return diffuse + specular_ * (FibreMicroflakeD(h, ply.fibre, alpha_) * attenuation_over_mu_v / (4.0f * mu_l));
 }
 
 }  // namespace loom

@@ -12,8 +12,8 @@
 // by β. How the paper's flat surface maps onto Loom's yarn geometry, and the energy
 // bounds: docs/yarn_shading.md.
 //
-// All vectors in tile coordinates (z is the cloth's normal). Zero unless l and v are
-// above n's horizon.
+// All vectors in tile coordinates (z is the cloth's normal). Zero unless l is above
+// n's horizon; a v below it takes the limit μ_v → 0⁺.
 
 #include <glm/glm.hpp>
 

@@ -20,7 +20,7 @@ KajiyaKayBrdf::KajiyaKayBrdf(const YarnMaterial& material)
       exponent_(std::max(material.specular_exponent, 0.0f)) {}
 
 glm::vec3 KajiyaKayBrdf::Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
-  if (!(glm::dot(normal, l) > 0.0f && glm::dot(normal, v) > 0.0f)) return glm::vec3(0.0f);
+  if (!(glm::dot(normal, l) > 0.0f)) return glm::vec3(0.0f);
   // The bound on the lobe's albedo holds for a fibre lying in the surface.
   const glm::vec3 along = tangent - normal * glm::dot(normal, tangent);
   const float length2 = glm::dot(along, along);

@@ -6,8 +6,8 @@
 //
 // cos α_l = t·l, cos α_v = t·v: ψ peaks on the cone of mirror directions of the fibre.
 // N(p) bounds the lobe's directional albedo by 1, so the material's is at most
-// ρ_d + ρ_s (the derivation: docs/yarn_shading.md). Zero unless l and v are above the
-// shading normal's horizon.
+// ρ_d + ρ_s (the derivation: docs/yarn_shading.md). Zero unless l is above the
+// shading normal's horizon; v may be below it (the formula does not involve n·v).
 
 #include <glm/glm.hpp>
 

@@ -15,8 +15,11 @@
 namespace loom {
 
 // `point` is a front-facing yarn hit, l and v unit tile-space directions towards
-// the light and the viewer. Light behind the triangle itself is blocked even where
-// the interpolated normal leans towards it. Counts the shadow ray it casts in `rays`.
+// the light and the viewer. Sidedness is the triangle's: the hit faces v, so it is
+// shaded even where the interpolated normal leans away from v (a silhouette); light
+// behind the triangle is blocked even where the interpolated normal leans towards
+// it, and light behind the interpolated normal gives no irradiance. Counts the
+// shadow ray it casts in `rays`.
 glm::vec3 DirectYarnRadiance(const PeriodicScene& scene, const SurfacePoint& point, const YarnBrdf& brdf, glm::vec3 l,
                              glm::vec3 v, uint64_t& rays);
 

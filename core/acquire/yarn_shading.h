@@ -18,7 +18,8 @@ class YarnBrdf {
 
   // f_r for unit n, l, v in tile coordinates; `tangent` is the interpolated
   // (twisted) yarn direction, not necessarily unit or in the surface. Zero unless l
-  // and v are above n's horizon.
+  // is above n's horizon; whether v sees the surface is the caller's (the hit
+  // triangle's side: core/acquire/yarn_radiance.h).
   glm::vec3 Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
     return std::visit([&](const auto& brdf) { return brdf.Evaluate(normal, tangent, l, v); }, brdf_);
   }

@@ -23,9 +23,10 @@ namespace loom {
 // 4: acquisition's rays on one grid over the tile whatever the resolution, and a mip
 // texel pooling its children's samples and hit normals weighted by coverage;
 // 5: mip levels fitted coarsest first, a texel starting from its parent's fit, not
-// its children's; 6: a sampling plane per view, view_heights in the manifest): it
-// invalidates every cached fabric.
-inline constexpr uint32_t kAssetFormatVersion = 6;
+// its children's; 6: a sampling plane per view, view_heights in the manifest; 7:
+// acquisition shades a facet facing the view even where the shading normal does not):
+// it invalidates every cached fabric.
+inline constexpr uint32_t kAssetFormatVersion = 7;
 
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 

@@ -28,8 +28,9 @@ constexpr const char* kLightTermsFile = "light_terms.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout. 2: view-depth sampling planes. 3: the shape's terms, one
-// channel each, times the table's ambient response.
-constexpr uint32_t kFactoredFormatVersion = 3;
+// channel each, times the table's ambient response. 4: acquisition shades a facet
+// facing the view even where the shading normal does not.
+constexpr uint32_t kFactoredFormatVersion = 4;
 
 // Terms first … first + channels − 1 of one level over one grid (`count` stored
 // directions) as one direction atlas of `channels` channels, zeros past the rank.

@@ -30,8 +30,9 @@ constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
 // 1: the first layout; 2: every level drawn equally often in training; 3: the
 // view atlas's RGB is the per-view gain A (radiance A/π ⊙ f); 4: the Fourier
-// encoding's frequencies; 5: the factored base (decoder.base_rank, its terms' files).
-constexpr uint32_t kNeuralFormatVersion = 5;
+// encoding's frequencies; 5: the factored base (decoder.base_rank, its terms' files);
+// 6: acquisition shades a facet facing the view even where the shading normal does not.
+constexpr uint32_t kNeuralFormatVersion = 6;
 // The uniform buffer binding of the decoder's parameters.
 constexpr GLuint kDecoderBinding = 0;
 

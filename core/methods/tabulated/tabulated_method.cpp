@@ -26,8 +26,9 @@ using nlohmann::json;
 constexpr const char* kTableFile = "table.exr";
 constexpr const char* kViewsFile = "views.exr";
 constexpr const char* kManifestFile = "manifest.json";
-// 1: the first layout.
-constexpr uint32_t kTabulatedFormatVersion = 2;
+// 1: the first layout. 2: view-depth sampling planes. 3: acquisition shades a facet
+// facing the view even where the shading normal does not.
+constexpr uint32_t kTabulatedFormatVersion = 3;
 
 // The pixel of (texel, view, light) in a level's table atlas (tabulated_method.h):
 // lights on a k_l×k_l block inside the view's cell of the texel's k×k block of views.

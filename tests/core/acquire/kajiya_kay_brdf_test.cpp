@@ -48,7 +48,9 @@ TEST(KajiyaKayBrdf, LambertianPartIsAlbedoOverPi) {
     }
   }
   EXPECT_EQ(brdf.Evaluate(n, t, {0, 0, -1}, {0, 0, 1}), glm::vec3(0.0f));  // light below
-  EXPECT_EQ(brdf.Evaluate(n, t, {0, 0, 1}, {0.6f, 0, -0.8f}), glm::vec3(0.0f));  // view below
+  // A view below the shading normal's horizon (a silhouette whose triangle faces it)
+  // is shaded: sidedness is the caller's.
+  EXPECT_EQ(brdf.Evaluate(n, t, {0, 0, 1}, {0.6f, 0, -0.1f}), glm::vec3(glm::one_over_pi<float>()));
 }
 
 TEST(KajiyaKayBrdf, ReflectedRadianceExceedsTheWhiteLambertianBoundByAtMostTheSpecularShare) {
