@@ -42,7 +42,7 @@ PlyFrame ScaledPlyFrame(glm::vec3 normal, glm::vec3 tangent, float height_scale)
 FibreMicroflakeBrdf::FibreMicroflakeBrdf(const YarnMaterial& material)
     : diffuse_(material.diffuse_albedo * glm::one_over_pi<float>()),
       specular_(material.specular_albedo),
-      alpha_(material.roughness),
+      alpha_(std::max(material.roughness, kMinMicroflakeRoughness)),
       height_scale_(material.height_scale),
       blend_(material.lambert_blend) {}
 

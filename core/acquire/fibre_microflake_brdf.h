@@ -24,6 +24,10 @@ namespace loom {
 // Tρ, the layer's density times thickness: "always assigned a value of 2 for fabrics".
 inline constexpr float kMicroflakeOpticalDepth = 2.0f;
 
+// The roughness the BRDF uses is at least this: a narrower lobe than any direction grid
+// resolves, and far enough from 0 that 1/α² and 1/(πα) stay finite in float.
+inline constexpr float kMinMicroflakeRoughness = 1e-4f;
+
 // D(h) and σ(ω) of a fibre-like SGGX distribution with unit axis `fibre` and roughness α.
 float FibreMicroflakeD(glm::vec3 h, glm::vec3 fibre, float alpha);
 float FibreMicroflakeSigma(glm::vec3 w, glm::vec3 fibre, float alpha);

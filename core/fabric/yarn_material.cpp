@@ -5,7 +5,8 @@
 namespace loom {
 
 float SpecularExponentFromRoughness(float roughness) {
-  return std::max(1.0f, 2.0f / (roughness * roughness) - 2.0f);
+  const float alpha = std::max(roughness, 1e-4f);
+  return std::max(1.0f, 2.0f / (alpha * alpha) - 2.0f);
 }
 
 YarnMaterial MakeYarnMaterial(const v1::YarnSpec& yarn) {

@@ -196,8 +196,15 @@ TEST(FibreMicroflakeBrdf, HighlightLiesAcrossTheFibreAndNarrowsWithRoughness) {
 }
 
 TEST(FibreMicroflakeBrdf, DegenerateInputsStayFinite) {
-  const FibreMicroflakeBrdf brdf(Microflake(0.01f, 0.0f, 0.5f, glm::vec3(0.5f), glm::vec3(0.5f)));
   const glm::vec3 n(0, 0, 1);
+  // A roughness the spec allows (above 0) but float cannot invert: the fibre exactly
+  // across the half vector made 1/α² · 0 a NaN.
+  for (float roughness : {1e-30f, 1e-10f}) {
+    const FibreMicroflakeBrdf tiny(Microflake(roughness, 1.0f, 1.0f, glm::vec3(0.5f), glm::vec3(0.5f)));
+    const glm::vec3 f = tiny.Evaluate(n, {1, 0, 0}, glm::normalize(glm::vec3(0, 1, 1)), glm::normalize(glm::vec3(0, -1, 1)));
+    EXPECT_TRUE(std::isfinite(f.r) && f.r > 0.0f) << roughness;
+  }
+  const FibreMicroflakeBrdf brdf(Microflake(0.01f, 0.0f, 0.5f, glm::vec3(0.5f), glm::vec3(0.5f)));
   for (const glm::vec3& t : {glm::vec3(0.0f), glm::vec3(0, 0, 1), glm::vec3(1, 0, 0)}) {
     for (const glm::vec3& l : {glm::vec3(0, 0, 1), glm::vec3(1, 0, 1e-7f), glm::vec3(0, 1, 1e-7f)}) {
       const glm::vec3 f = brdf.Evaluate(n, t, l, l);

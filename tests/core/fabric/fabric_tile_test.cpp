@@ -13,6 +13,7 @@
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 
+#include "core/acquire/kajiya_kay_brdf.h"
 #include "core/fabric/knit_tile.h"
 #include "core/fabric/yarn_material.h"
 #include "core/spec/defaults.h"
@@ -237,6 +238,9 @@ TEST(FabricTile, MaterialsFollowTheYarns) {
   EXPECT_EQ(std::count(tile.triangle_material.begin(), tile.triangle_material.end(), 1u),
             static_cast<std::ptrdiff_t>(tile.triangle_material.size() / 2));  // the wefts
   EXPECT_FLOAT_EQ(SpecularExponentFromRoughness(1.0f), 1.0f);
+  // A roughness the validator accepts (above 0) but float cannot square: a finite lobe.
+  EXPECT_FLOAT_EQ(SpecularExponentFromRoughness(1e-30f), SpecularExponentFromRoughness(1e-4f));
+  EXPECT_TRUE(std::isfinite(KajiyaKayNormalisation(SpecularExponentFromRoughness(1e-30f))));
 }
 
 // Every spec the validator accepts builds: each pattern at the extremes of its
