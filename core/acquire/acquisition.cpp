@@ -113,6 +113,9 @@ ValidationIssues ValidateTile(const FabricTile& tile) {
       if (!(material.lambert_blend >= 0.0f && material.lambert_blend <= 1.0f)) {
         report(at + "lambert_blend", Cat(material.lambert_blend, " is not in [0, 1]"));
       }
+      if (!(material.diffuse_transmission >= 0.0f && material.diffuse_transmission <= 1.0f)) {
+        report(at + "diffuse_transmission", Cat(material.diffuse_transmission, " is not in [0, 1]"));
+      }
     }
   }
   return issues;
@@ -120,11 +123,13 @@ ValidationIssues ValidateTile(const FabricTile& tile) {
 
 // --- Helpers ----------------------------------------------------------------------------
 
-// tan θ of the direction closest to the horizon: how far a ray travels sideways per
-// unit of depth.
+// |tan θ| of the direction closest to the horizon (above or below it): how far a ray
+// travels sideways per unit of depth.
 float MaxTangent(const std::vector<glm::vec3>& directions) {
   float result = 0.0f;
-  for (const glm::vec3& d : directions) result = std::max(result, std::sqrt(std::max(0.0f, 1.0f - d.z * d.z)) / d.z);
+  for (const glm::vec3& d : directions) {
+    result = std::max(result, std::sqrt(std::max(0.0f, 1.0f - d.z * d.z)) / std::abs(d.z));
+  }
   return result;
 }
 
@@ -263,7 +268,7 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
         for (size_t light = 0; light < pass.light_count; ++light) {
           const glm::vec3 l = samples.light_directions[pass.first_light + light];
           glm::vec3 radiance = indirect ? brdf.diffuse() * scratch.irradiance[light] : glm::vec3(0.0f);
-          radiance += DirectYarnRadiance(pass.scene, point, brdf, l, v, rays);
+          radiance += DirectYarnRadiance(pass.scene, pass.tile, point, brdf, l, v, rays);
           scratch.sum[light] += radiance;
         }
       }
@@ -280,15 +285,20 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
 }  // namespace
 
 RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& requested,
-                        const AcquireProgress& progress, AcquireStats* stats, const AcquireOptions& options) {
+                        const AcquireProgress& progress, AcquireStats* stats, const AcquireOptions& options,
+                        LightSide side) {
   ThrowIfAny(Validate(requested));
   ThrowIfAny(ValidateTile(tile));
   const Stopwatch stopwatch;
   const v1::PrecomputeSettings settings = WithDefaults(requested);
   const unsigned threads = ResolveThreadCount(options.threads);
 
+  std::vector<glm::vec3> light_directions = HemisphereGridDirections(settings.light_directions());
+  if (side == LightSide::kBack) {
+    for (glm::vec3& l : light_directions) l.z = -l.z;
+  }
   RadianceSamples samples(settings.spatial_resolution(), HemisphereGridDirections(settings.view_directions()),
-                          HemisphereGridDirections(settings.light_directions()));
+                          std::move(light_directions));
   const size_t texels = samples.texel_count();
   const size_t views = samples.view_count();
   const size_t lights = samples.light_count();

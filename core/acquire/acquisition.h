@@ -21,6 +21,10 @@
 // E_ind the indirect irradiance after settings.indirect_bounces diffuse bounces
 // (core/acquire/indirect_light.h); 0 where alpha is 0.
 //
+// Light side: the lights are the grid's directions (z > 0) or, for LightSide::kBack,
+// the same directions mirrored below the cloth (z < 0), whose light reaches the
+// viewer's side through holes and through yarns that transmit (yarn_radiance.h).
+//
 // Light convention: every light is directional with unit irradiance E = 1 on a
 // surface facing it, so radiance = f_r · E · cos θ_l, and a white Lambertian surface
 // lit head-on has radiance 1/π.
@@ -66,12 +70,14 @@ struct AcquireOptions {
   size_t indirect_memory_bytes = size_t{256} << 20;
 };
 
+enum class LightSide { kFront, kBack };
+
 // Validates `settings` (core/spec/validate.h; unset fields take their defaults)
 // and the tile (consistent sizes, indices in range, finite values, albedos in
 // [0, 1] summing to at most 1, geometry inside [z_min, z_max]) before any work,
 // throwing Error(kInvalidArgument) that names the field.
 RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& settings,
                         const AcquireProgress& progress = {}, AcquireStats* stats = nullptr,
-                        const AcquireOptions& options = {});
+                        const AcquireOptions& options = {}, LightSide side = LightSide::kFront);
 
 }  // namespace loom

@@ -40,7 +40,8 @@ PlyFrame ScaledPlyFrame(glm::vec3 normal, glm::vec3 tangent, float height_scale)
 }
 
 FibreMicroflakeBrdf::FibreMicroflakeBrdf(const YarnMaterial& material)
-    : diffuse_(material.diffuse_albedo * glm::one_over_pi<float>()),
+    : diffuse_(material.diffuse_albedo * ((1.0f - material.diffuse_transmission) * glm::one_over_pi<float>())),
+      transmitted_(material.diffuse_albedo * (material.diffuse_transmission * glm::one_over_pi<float>())),
       specular_(material.specular_albedo),
       alpha_(std::max(material.roughness, kMinMicroflakeRoughness)),
       height_scale_(material.height_scale),
@@ -64,6 +65,30 @@ glm::vec3 FibreMicroflakeBrdf::Evaluate(glm::vec3 normal, glm::vec3 tangent, glm
   const float attenuation_over_mu_v =
       mu_v > 0.0f ? -std::expm1(-kMicroflakeOpticalDepth * lambda_mu_v / mu_v) / lambda_mu_v : 1.0f / sigma_v;
   return diffuse + specular_ * (FibreMicroflakeD(h, ply.fibre, alpha_) * attenuation_over_mu_v / (4.0f * mu_l));
+}
+
+glm::vec3 FibreMicroflakeBrdf::Transmit(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
+  const float mu_l = -glm::dot(normal, l);
+  if (!(mu_l > 0.0f)) return glm::vec3(0.0f);
+  bool has_half = false;
+  const glm::vec3 h = UnitOr(l + v, glm::vec3(0.0f), has_half);
+  const PlyFrame ply = ScaledPlyFrame(normal, tangent, height_scale_);
+  if (!ply.has_fibre || !has_half) return transmitted_;
+  // (e^{−a} − e^{−b}) / ((Λ_v − Λ_l) μ_v) with a = TρΛ_l, b = TρΛ_v, written so that
+  // it stays finite as b → a (the limit Tρ e^{−a}/μ_v) and as μ_v → 0⁺ (e^{−a}/σ_v).
+  const float mu_v = std::max(glm::dot(normal, v), 0.0f);
+  const float sigma_v = FibreMicroflakeSigma(v, ply.fibre, alpha_);
+  const float a = kMicroflakeOpticalDepth * FibreMicroflakeSigma(l, ply.fibre, alpha_) / mu_l;
+  float through_over_mu_v = 0.0f;
+  if (mu_v > 0.0f) {
+    const float b = kMicroflakeOpticalDepth * sigma_v / mu_v;
+    const float x = std::abs(b - a);
+    const float ratio = x > 1e-6f ? -std::expm1(-x) / x : 1.0f;  // (1 − e^{−x})/x
+    through_over_mu_v = std::exp(-std::min(a, b)) * ratio * kMicroflakeOpticalDepth / mu_v;
+  } else {
+    through_over_mu_v = std::exp(-a) / sigma_v;
+  }
+  return transmitted_ + specular_ * (FibreMicroflakeD(h, ply.fibre, alpha_) * through_over_mu_v / (4.0f * mu_l));
 }
 
 }  // namespace loom

@@ -12,8 +12,20 @@
 // by β. How the paper's flat surface maps onto Loom's yarn geometry, and the energy
 // bounds: docs/yarn_shading.md.
 //
-// All vectors in tile coordinates (z is the cloth's normal). Zero unless l is above
-// n's horizon; a v below it takes the limit μ_v → 0⁺.
+// Transmission (light behind the layer, μ_l < 0; docs/yarn_shading.md "Light through
+// the yarn"): the same layer's single scattering towards the other side (SpongeCake,
+// Wang et al. 2022, which Zhu et al. 2023 and the neural paper's data build on) and a
+// diffuse share t of k_d passed through instead of reflected,
+//
+//   f_t(l, v) = k_s D(h) (e^{−TρΛ_l} − e^{−TρΛ_v}) / (4 |μ_l| μ_v (Λ_v − Λ_l)) + t k_d / π,
+//
+// Λ_l = σ(l)/|μ_l|, h = (l + v)/|l + v|; the diffuse reflection above is then (1 − t)
+// times the paper's. The unscattered (delta) part e^{−TρΛ_l} is left out, as the
+// neural paper leaves it out.
+//
+// All vectors in tile coordinates (z is the cloth's normal). f_r is zero unless l is
+// above n's horizon, f_t unless it is below; a v below the horizon takes the limit
+// μ_v → 0⁺ in both.
 
 #include <glm/glm.hpp>
 
@@ -48,15 +60,19 @@ class FibreMicroflakeBrdf {
  public:
   explicit FibreMicroflakeBrdf(const YarnMaterial& material);
 
-  // f_r for unit n, l, v; without a fibre direction the specular term is left out.
+  // f_r and f_t for unit n, l, v; without a fibre direction the specular terms are
+  // left out.
   glm::vec3 Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const;
+  glm::vec3 Transmit(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const;
+  static constexpr bool kTransmits = true;
 
-  // k_d/π: what indirect (diffuse inter-reflected) light is reflected by.
+  // (1 − t) k_d/π: what indirect (diffuse inter-reflected) light is reflected by.
   glm::vec3 diffuse() const { return diffuse_; }
 
  private:
-  glm::vec3 diffuse_;   // k_d / π
-  glm::vec3 specular_;  // k_s
+  glm::vec3 diffuse_;      // (1 − t) k_d / π
+  glm::vec3 transmitted_;  // t k_d / π
+  glm::vec3 specular_;     // k_s
   float alpha_;
   float height_scale_;
   float blend_;

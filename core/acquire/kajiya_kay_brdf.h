@@ -8,6 +8,7 @@
 // N(p) bounds the lobe's directional albedo by 1, so the material's is at most
 // ρ_d + ρ_s (the derivation: docs/yarn_shading.md). Zero unless l is above the
 // shading normal's horizon; v may be below it (the formula does not involve n·v).
+// The yarn is opaque: no transmission.
 
 #include <glm/glm.hpp>
 
@@ -25,6 +26,9 @@ class KajiyaKayBrdf {
   // f_r for unit n, l, v. `tangent` is made perpendicular to n here; one along n
   // or zero (a degenerate mesh) gives no fibre direction, and the lobe is left out.
   glm::vec3 Evaluate(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const;
+  // The yarn is opaque: no light passes through it.
+  static constexpr bool kTransmits = false;
+  glm::vec3 Transmit(glm::vec3, glm::vec3, glm::vec3, glm::vec3) const { return glm::vec3(0.0f); }
 
   // ρ_d/π: the part that indirect (diffuse inter-reflected) light is reflected by.
   glm::vec3 diffuse() const { return diffuse_; }

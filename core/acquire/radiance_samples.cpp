@@ -118,18 +118,22 @@ std::string EncodeRadianceSamples(const RadianceSamples& s) {
 }
 
 // The layout's promises about the values: the direction grids are the ones
-// HemisphereGridDirections makes (fitting and the LUT rely on their order), alpha
+// HemisphereGridDirections makes (fitting and the LUT rely on their order; the
+// lights may be that grid mirrored below the cloth), alpha
 // and normal lengths in [0, 1], unit normals and tangents, radiance >= 0.
 template <typename Fail>
 void CheckValues(const RadianceSamples& s, const Fail& fail) {
-  const auto same_grid = [](const std::vector<glm::vec3>& given) {
+  // The grid, or with `mirrored` the grid below the cloth (every z negated).
+  const auto same_grid = [](const std::vector<glm::vec3>& given, bool mirrored) {
     const std::vector<glm::vec3> grid = HemisphereGridDirections(static_cast<uint32_t>(given.size()));
+    const glm::vec3 mirror(1.0f, 1.0f, mirrored ? -1.0f : 1.0f);
     for (size_t i = 0; i < grid.size(); ++i) {
-      if (glm::length(given[i] - grid[i]) > 1e-5f) return false;
+      if (glm::length(given[i] - grid[i] * mirror) > 1e-5f) return false;
     }
     return true;
   };
-  if (!same_grid(s.view_directions) || !same_grid(s.light_directions)) {
+  if (!same_grid(s.view_directions, false) ||
+      !(same_grid(s.light_directions, false) || same_grid(s.light_directions, true))) {
     throw fail("its view or light directions are not the hemisphere grid (core/acquire/hemisphere_directions.h)");
   }
   const auto unit = [](const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) < 1e-3f; };

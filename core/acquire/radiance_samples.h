@@ -6,7 +6,8 @@
 // Layout. Texel (x, y) covers tile space [x/res, (x+1)/res) × [y/res, (y+1)/res);
 // its index is y·res + x. Views and lights are HemisphereGridDirections order
 // (core/acquire/hemisphere_directions.h), unit vectors in tile space pointing away
-// from the fabric (towards the viewer / the light). The arrays are texel-major, so a
+// from the fabric (towards the viewer / the light); lights behind the cloth are that
+// grid mirrored (z negated, acquisition's LightSide::kBack). The arrays are texel-major, so a
 // texel's samples are contiguous (fitting works per texel, and a mip level pools
 // 2×2 texels):
 //   alpha[texel·V + view]                      coverage in [0, 1]

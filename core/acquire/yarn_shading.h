@@ -24,6 +24,16 @@ class YarnBrdf {
     return std::visit([&](const auto& brdf) { return brdf.Evaluate(normal, tangent, l, v); }, brdf_);
   }
 
+  // f_t for l below n's horizon (zero above it, and for a model that does not
+  // transmit): light that reached the yarn from behind and leaves towards v.
+  glm::vec3 Transmit(glm::vec3 normal, glm::vec3 tangent, glm::vec3 l, glm::vec3 v) const {
+    return std::visit([&](const auto& brdf) { return brdf.Transmit(normal, tangent, l, v); }, brdf_);
+  }
+  // Whether Transmit can be non-zero: whether light behind a yarn is worth a ray.
+  bool transmits() const {
+    return std::visit([](const auto& brdf) { return brdf.kTransmits; }, brdf_);
+  }
+
   // ρ_d/π: the part that indirect (diffuse inter-reflected) light is reflected by.
   glm::vec3 diffuse() const {
     return std::visit([](const auto& brdf) { return brdf.diffuse(); }, brdf_);

@@ -35,6 +35,7 @@ struct YarnMaterial {
   float roughness = 0.5f;           // microflake: α
   float height_scale = 1.0f;        // microflake: β
   float lambert_blend = 1.0f;       // microflake: w
+  float diffuse_transmission = 0.0f;  // microflake: t
 };
 
 struct FabricTile {

@@ -21,6 +21,7 @@ YarnMaterial MakeYarnMaterial(const v1::YarnSpec& yarn) {
     material.roughness = yarn.roughness();
     material.height_scale = yarn.height_scale();
     material.lambert_blend = yarn.lambert_blend();
+    material.diffuse_transmission = yarn.diffuse_transmission();
   }
   return material;
 }

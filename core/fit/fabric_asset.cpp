@@ -142,10 +142,10 @@ FitLevelStats StatsFromJson(const json& j) {
 }  // namespace
 
 void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& settings,
-                      const std::string& fabric_key, const std::filesystem::path& directory) {
+                      const std::string& fabric_key, const AssetSheet& directory) {
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
-  std::filesystem::create_directories(directory);
+  std::filesystem::create_directories(directory.directory);
   const std::string parameters_sha = WriteLevelImage(ParameterImage(fabric), directory / kParametersFile, half);
   const std::string lut_sha = WriteLevelImage(LutImage(fabric), directory / kLutFile, half);
 
@@ -172,7 +172,7 @@ void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& 
   WriteFileAtomic(directory / kManifestFile, manifest.dump(2) + "\n");
 }
 
-FittedFabric ReadFabricAsset(const std::filesystem::path& directory) {
+FittedFabric ReadFabricAsset(const AssetSheet& directory) {
   const std::filesystem::path manifest_path = directory / kManifestFile;
   json manifest;
   try {

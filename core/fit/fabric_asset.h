@@ -26,6 +26,7 @@
 #include <string>
 
 #include "core/fit/fabric_fit.h"
+#include "core/methods/asset_files.h"
 #include "core/spec/fabric_key.h"
 #include "loom/v1/precompute.pb.h"
 
@@ -37,11 +38,11 @@ namespace loom {
 // Creates `directory` if needed. `settings` are recorded as given, with defaults
 // applied.
 void WriteFabricAsset(const FittedFabric& fabric, const v1::PrecomputeSettings& settings,
-                      const std::string& fabric_key, const std::filesystem::path& directory);
+                      const std::string& fabric_key, const AssetSheet& directory);
 
 // The fabric as written (to half-float precision where the asset is half float),
 // statistics and timings included. Error(kNotFound) if a file is missing,
 // Error(kInvalidArgument) if one is corrupted or inconsistent.
-FittedFabric ReadFabricAsset(const std::filesystem::path& directory);
+FittedFabric ReadFabricAsset(const AssetSheet& directory);
 
 }  // namespace loom

@@ -128,7 +128,7 @@ void CheckLevelChain(const json& levels, uint64_t values_per_texel, uint64_t max
   }
 }
 
-std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const json& files, const char* name,
+std::filesystem::path VerifiedFile(const AssetSheet& directory, const json& files, const char* name,
                                    int side) {
   const std::filesystem::path path = directory / name;
   const std::string bytes = ReadFile(path);

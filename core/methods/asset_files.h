@@ -20,6 +20,18 @@
 
 namespace loom {
 
+// Where the files of one sheet of an asset lie: the asset's directory, and a prefix
+// of their names ("" for the asset, kBackSheetPrefix for its back sheet,
+// FabricAsset in core/methods/fabric_method.h): an asset stays one flat directory.
+inline constexpr const char* kBackSheetPrefix = "back-";
+struct AssetSheet {
+  AssetSheet(std::filesystem::path directory, std::string prefix = {})  // NOLINT: a directory is the front sheet
+      : directory(std::move(directory)), prefix(std::move(prefix)) {}
+  std::filesystem::path operator/(std::string_view name) const { return directory / (prefix + std::string(name)); }
+  std::filesystem::path directory;
+  std::string prefix;
+};
+
 // One image with its MIP levels, pixel-interleaved floats, level j of side sides[j].
 // Channels flagged in `keep_float` stay 32-bit in a half-float file.
 struct LevelImage {
@@ -79,7 +91,7 @@ nlohmann::json FileEntry(const std::filesystem::path& path, const std::string& s
 // Verifies `name` in `directory` against the manifest's "files" entry and its
 // OpenEXR header against the level-0 side `side` (core/image/exr_header.h) before
 // OpenEXR reads it; returns its path.
-std::filesystem::path VerifiedFile(const std::filesystem::path& directory, const nlohmann::json& files,
+std::filesystem::path VerifiedFile(const AssetSheet& directory, const nlohmann::json& files,
                                    const char* name, int side);
 
 // The manifest's direction count `field`: a k×k grid within the caps, else

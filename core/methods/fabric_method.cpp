@@ -73,12 +73,34 @@ std::string MethodNames() {
   return names;
 }
 
+void FabricAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                        const std::filesystem::path& directory) const {
+  // The manifests say whether there is a back sheet, whatever `settings` left unset.
+  v1::PrecomputeSettings recorded = settings;
+  if (back_) {
+    recorded.set_transmission(true);
+  } else {
+    recorded.clear_transmission();
+  }
+  if (back_) back_->WriteSheet(recorded, fabric_key, AssetSheet(directory, kBackSheetPrefix));
+  WriteSheet(recorded, fabric_key, directory);
+}
+
+RadianceSamples MirroredLights(RadianceSamples samples) {
+  for (glm::vec3& l : samples.light_directions) l.z = -l.z;
+  return samples;
+}
+
 std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& directory) {
   const std::filesystem::path manifest_path = directory / "manifest.json";
   std::string name = "svbrdf";
+  bool transmission = false;
   try {
     const nlohmann::json manifest = nlohmann::json::parse(ReadFile(manifest_path));
     if (manifest.contains("method")) name = manifest.at("method").get<std::string>();
+    if (manifest.contains("settings") && manifest.at("settings").contains("transmission")) {
+      transmission = manifest.at("settings").at("transmission").get<bool>();
+    }
   } catch (const nlohmann::json::exception& e) {
     throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + " is not a valid manifest: " + e.what());
   }
@@ -86,7 +108,9 @@ std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& dir
   if (method == nullptr) {
     throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": method '" + name + "' is not one this engine has");
   }
-  return method->Read(directory);
+  std::unique_ptr<FabricAsset> asset = method->Read(directory);
+  if (transmission) asset->set_back(method->Read(AssetSheet(directory, kBackSheetPrefix)));
+  return asset;
 }
 
 }  // namespace loom

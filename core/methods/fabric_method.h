@@ -20,6 +20,7 @@
 
 #include "core/acquire/radiance_samples.h"
 #include "core/gl/shader_program.h"
+#include "core/methods/asset_files.h"
 #include "core/methods/level_texture.h"
 #include "loom/v1/precompute.pb.h"
 
@@ -64,16 +65,32 @@ class GpuFabric {
   // "#define NAME VALUE\n" lines the method's cloth program is compiled with for this
   // asset (a loop bound the compiler may then unroll); one program per distinct set.
   virtual std::string ShaderDefines() const { return {}; }
+  // The back sheet's (FabricAsset::back) upload, or null.
+  const GpuFabric* back() const { return back_.get(); }
+  void set_back(std::unique_ptr<GpuFabric> back) { back_ = std::move(back); }
+
+ private:
+  std::unique_ptr<GpuFabric> back_;
 };
 
 // A fabric asset in CPU memory: built from samples, or read from an asset directory.
+// With PrecomputeSettings.transmission it has a back sheet: an asset of the same
+// method built alike from the light behind the cloth, its lights mirrored above the
+// surface (MirroredLights), its files in the same directory named with
+// kBackSheetPrefix; the renderer shades lights behind the surface with it.
 class FabricAsset {
  public:
   virtual ~FabricAsset() = default;
   virtual const FabricMethod& method() const = 0;
-  // Writes the asset's files and its manifest (last) into `directory`, creating it.
-  virtual void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-                     const std::filesystem::path& directory) const = 0;
+  // Writes the back sheet's files, then the asset's with its manifest last, into
+  // `directory`, creating it.
+  void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+             const std::filesystem::path& directory) const;
+  // One sheet's files and manifest (last).
+  virtual void WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                          const AssetSheet& sheet) const = 0;
+  const FabricAsset* back() const { return back_.get(); }
+  void set_back(std::unique_ptr<FabricAsset> back) { back_ = std::move(back); }
   // On the calling thread's current GL context; `half` stores what the method
   // allows in 16-bit floats.
   virtual std::unique_ptr<GpuFabric> Upload(bool half) const = 0;
@@ -83,7 +100,15 @@ class FabricAsset {
   // "method", "seconds" and "levels" (per level at least "level" and "resolution";
   // "relative_rmse" where the method approximates its samples).
   virtual nlohmann::json Figures() const = 0;
+
+ private:
+  std::unique_ptr<FabricAsset> back_;
 };
+
+// Back-lit samples (acquisition's LightSide::kBack) with every light mirrored
+// through the surface (z negated): what a method builds a back sheet from, as if
+// the light came from above.
+RadianceSamples MirroredLights(RadianceSamples samples);
 
 // fraction in [0, 1], non-decreasing; throwing from it cancels the build.
 using BuildProgress = std::function<void(double fraction, std::string_view stage)>;
@@ -115,7 +140,7 @@ class FabricMethod {
                                              const BuildProgress& progress) const = 0;
   // Error(kNotFound) if a file is missing, Error(kInvalidArgument) if one is
   // corrupted or inconsistent.
-  virtual std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const = 0;
+  virtual std::unique_ptr<FabricAsset> Read(const AssetSheet& sheet) const = 0;
 };
 
 // The method of an id; FABRIC_METHOD_UNSPECIFIED is svbrdf. Error(kInvalidArgument)
@@ -127,7 +152,8 @@ const FabricMethod* MethodNamed(std::string_view name);
 std::string MethodNames();
 
 // The asset in `directory`, read by the method its manifest names (a manifest
-// without "method" is svbrdf's, as written before methods).
+// without "method" is svbrdf's, as written before methods), with its back sheet
+// when its settings have transmission (Error(kNotFound) if that is missing).
 std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& directory);
 
 }  // namespace loom

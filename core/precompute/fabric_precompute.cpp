@@ -32,19 +32,31 @@ std::unique_ptr<FabricAsset> PrecomputeAsset(const v1::FabricSpec& fabric, const
   figures.geometry_seconds = geometry_time.Seconds();
   figures.tile_triangles = tile.mesh.triangle_count();
 
-  const RadianceSamples samples = Acquire(
-      tile, settings,
-      [&report](double f, std::string_view stage) { report(kAcquireShare * f, "acquisition: " + std::string(stage)); },
-      &figures.acquisition);
-  figures.mean_alpha = samples.MeanAlpha();
-
+  // With a back sheet, each side takes half of the bar: its acquisition, then its build.
+  const bool back = AcquiresTransmission(fabric, settings);
+  const double sides = back ? 2.0 : 1.0;
   const v1::PrecomputeSettings full = WithDefaults(settings);
   const FabricMethod& method = MethodOf(full.method());
-  const std::string stage = std::string(method.name()) + ": ";
-  std::unique_ptr<FabricAsset> asset =
-      method.Build(samples, full, [&report, &stage](double f, std::string_view step) {
-        report(kAcquireShare + (1.0 - kAcquireShare) * f, stage + std::string(step));
-      });
+  const auto side = [&](LightSide light_side, double start, std::string_view name, AcquireStats* acquire_stats) {
+    const auto span = [&](double from, double to, std::string prefix) {
+      return [&report, start, from, to, sides, prefix = std::move(prefix)](double f, std::string_view stage) {
+        report(start + (from + (to - from) * f) / sides, prefix + std::string(stage));
+      };
+    };
+    const RadianceSamples samples =
+        Acquire(tile, settings, span(0.0, kAcquireShare, std::string(name) + "acquisition: "), acquire_stats, {},
+                light_side);
+    if (light_side == LightSide::kFront) figures.mean_alpha = samples.MeanAlpha();
+    return method.Build(light_side == LightSide::kBack ? MirroredLights(samples) : samples, full,
+                        span(kAcquireShare, 1.0, std::string(name) + std::string(method.name()) + ": "));
+  };
+  std::unique_ptr<FabricAsset> asset = side(LightSide::kFront, 0.0, back ? "front: " : "", &figures.acquisition);
+  if (back) {
+    AcquireStats back_stats;
+    asset->set_back(side(LightSide::kBack, 0.5, "back: ", &back_stats));
+    figures.acquisition.seconds += back_stats.seconds;
+    figures.acquisition.rays += back_stats.rays;
+  }
   report(1.0, "done");
   return asset;
 }

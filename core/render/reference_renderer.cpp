@@ -371,14 +371,15 @@ class Tracer {
       if (indirect && cloth.directional_index[i] >= 0) {
         unit += brdf.diffuse() * irradiance[half + static_cast<size_t>(cloth.directional_index[i])];
       }
-      glm::vec3 direct = DirectYarnRadiance(*cloth.scene, point, brdf, l, v, rays);
+      glm::vec3 direct = DirectYarnRadiance(*cloth.scene, cloth.tile, point, brdf, l, v, rays);
       if (direct != glm::vec3(0.0f) && light.directional && light.casts_shadows) {
-        // Leave the shell along the light, then test the world; light from below the
-        // surface's horizon is blocked by the surface.
-        if (l.z <= 0.0f) {
+        // Leave the shell along the light, through its top face or, for light from
+        // behind the surface, its bottom face, then test the world.
+        const float face = l.z > 0.0f ? top : cloth.tile.z_min - kShellTopOffset;
+        if (l.z == 0.0f) {
           direct = glm::vec3(0.0f);
         } else {
-          const glm::vec3 exit = world + frame.ToWorld(l * ((top - hit->position.z) / l.z));
+          const glm::vec3 exit = world + frame.ToWorld(l * ((face - hit->position.z) / l.z));
           if (MacroShadowed(light, exit, rays)) direct = glm::vec3(0.0f);
         }
       }

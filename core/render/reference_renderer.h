@@ -46,8 +46,9 @@
 //   renderer): a yarn point's shadow ray leaves the shell along the light's
 //   tile-space direction, then goes on in world space. Plain objects block it;
 //   cloth blocks it where the light's ray through that cloth's shell meets yarn, so
-//   holes let light through (lacy shadows). Light from below the surface's horizon
-//   (in tile space) is blocked by the surface itself.
+//   holes let light through (lacy shadows; yarn that transmits still blocks it
+//   there). Light from behind the surface (tile z < 0) reaches the yarn through
+//   holes and through yarn that transmits, and leaves the shell through its bottom.
 // - Indirect light (PrecomputeSettings.indirect_bounces of the object's precompute
 //   settings, else the default): acquisition's per-vertex irradiance cache for the
 //   light's tile-space direction. That direction is one per directional light when

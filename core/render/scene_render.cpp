@@ -39,6 +39,7 @@ RenderedFrame RenderScene(GpuRenderer& renderer, const v1::SceneSpec& scene,
                     "object '" + object.name() + "': fabric " + key + " is not precomputed");
       }
       uploaded = asset->second->Upload(binding.precompute().half_float());
+      if (const FabricAsset* back = asset->second->back()) uploaded->set_back(back->Upload(binding.precompute().half_float()));
     }
     fabrics[i] = uploaded.get();
   }

@@ -14,6 +14,9 @@ out vec3 v_position;
 out vec3 v_normal;
 out vec4 v_tangent;
 out vec2 v_uv;
+// The same depth in every program: a cloth's back sheet is drawn over its front with
+// an equal-depth test (GpuRenderer).
+invariant gl_Position;
 
 void main() {
   v_position = a_position;

@@ -29,6 +29,7 @@ constexpr uint32_t kDefaultPlies = 1;
 constexpr float kDefaultRoughness = 0.5f;
 constexpr float kDefaultHeightScale = 1.0f;   // microflake: the geometry's own frame
 constexpr float kDefaultLambertBlend = 1.0f;  // microflake: Lambert about the ply normal
+constexpr float kDefaultDiffuseTransmission = 0.0f;  // microflake: the diffuse part reflects
 constexpr float kDefaultDiffuseAlbedo = 0.5f;
 constexpr float kDefaultSpecularAlbedo = 0.04f;  // a dielectric fibre at normal incidence
 constexpr uint32_t kDefaultRibWidth = 1;
@@ -79,6 +80,7 @@ void ApplyYarnDefaults(v1::YarnSpec& yarn, float default_radius) {
   if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) {
     if (!yarn.has_height_scale()) yarn.set_height_scale(kDefaultHeightScale);
     if (!yarn.has_lambert_blend()) yarn.set_lambert_blend(kDefaultLambertBlend);
+    if (!yarn.has_diffuse_transmission()) yarn.set_diffuse_transmission(kDefaultDiffuseTransmission);
   } else if (yarn.shading() == v1::YARN_SHADING_KAJIYA_KAY) {
     // Kajiya-Kay spelled out is Kajiya-Kay unset: one key, the one yarns had before
     // the field existed.
@@ -161,6 +163,14 @@ uint32_t SmallestSatinMove(uint32_t n) {
     if (IsValidSatinMove(n, m)) return m;
   }
   return 0;
+}
+
+bool AcquiresTransmission(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
+  if (settings.has_transmission()) return settings.transmission();
+  for (const v1::YarnSpec& yarn : fabric.yarns()) {
+    if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) return true;
+  }
+  return false;
 }
 
 bool IsTableMethod(v1::FabricMethod method) {

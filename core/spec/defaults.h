@@ -24,6 +24,10 @@ v1::SceneSpec WithDefaults(v1::SceneSpec scene);
 // build, and interpolate the stored views themselves (their own defaults and cap).
 bool IsTableMethod(v1::FabricMethod method);
 
+// Whether a precompute of `fabric` acquires light from behind the cloth:
+// settings.transmission if set, else whether a yarn transmits (microflake shading).
+bool AcquiresTransmission(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
+
 // The smallest tile of a knit pattern, in loops: wales and courses of a tile are
 // multiples of it. Stockinette and reverse 1×1, garter 1×2, rib
 // (rib_knit + rib_purl)×1, seed 2×2. Unspecified counts as stockinette.

@@ -34,7 +34,13 @@ std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::Precompu
   nlohmann::json canonical;
   const v1::PrecomputeSettings full = WithDefaults(settings);
   const FabricMethod& method = MethodOf(full.method());
-  const v1::PrecomputeSettings keyed = method.KeySettings(full);
+  v1::PrecomputeSettings keyed = method.KeySettings(full);
+  // Resolved, and only when true: fabrics without a back sheet keep their keys.
+  if (AcquiresTransmission(canonical_fabric, full)) {
+    keyed.set_transmission(true);
+  } else {
+    keyed.clear_transmission();
+  }
   canonical["asset_format_version"] = method.asset_format_version();
   canonical["fabric"] = FullJson(canonical_fabric);
   canonical["precompute"] = FullJson(keyed);

@@ -294,9 +294,11 @@ void CheckYarn(const v1::YarnSpec& yarn, bool knit, const IssueCollector& at) {
   if (yarn.shading() == v1::YARN_SHADING_MICROFLAKE) {
     at.Range("height_scale", yarn.height_scale(), 0.0f, kMaxHeightScale);
     at.Range("lambert_blend", yarn.lambert_blend(), 0.0f, 1.0f);
+    at.Range("diffuse_transmission", yarn.diffuse_transmission(), 0.0f, 1.0f);
   } else {
     for (const auto& [field, set] : {std::pair{"height_scale", yarn.has_height_scale()},
-                                     std::pair{"lambert_blend", yarn.has_lambert_blend()}}) {
+                                     std::pair{"lambert_blend", yarn.has_lambert_blend()},
+                                     std::pair{"diffuse_transmission", yarn.has_diffuse_transmission()}}) {
       if (set) at.Report(field, "only for shading YARN_SHADING_MICROFLAKE");
     }
   }

@@ -115,7 +115,7 @@ class FactoredTextures final : public GpuFabric {
   FactoredTermTextures terms_;
 };
 
-FactoredFabric ReadFactored(const std::filesystem::path& directory) {
+FactoredFabric ReadFactored(const AssetSheet& directory) {
   const std::filesystem::path manifest_path = directory / kManifestFile;
   const auto invalid = [&manifest_path](const std::string& what) {
     return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
@@ -186,14 +186,14 @@ class Factored final : public FabricMethod {
     return std::make_unique<FactoredAsset>(std::move(fabric));
   }
 
-  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+  std::unique_ptr<FabricAsset> Read(const AssetSheet& directory) const override {
     return std::make_unique<FactoredAsset>(ReadFactored(directory));
   }
 };
 
 }  // namespace
 
-json WriteFactoredTerms(const FactoredFabric& fabric, const std::filesystem::path& directory, bool half) {
+json WriteFactoredTerms(const FactoredFabric& fabric, const AssetSheet& directory, bool half) {
   const auto view_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.view_terms; };
   const auto light_terms = [](const FactoredLevel& level) -> const std::vector<float>& { return level.light_terms; };
   const std::string a_sha =
@@ -204,7 +204,7 @@ json WriteFactoredTerms(const FactoredFabric& fabric, const std::filesystem::pat
           {kLightTermsFile, FileEntry(directory / kLightTermsFile, b_sha)}};
 }
 
-void ReadFactoredTerms(const std::filesystem::path& directory, const json& files, FactoredFabric& fabric,
+void ReadFactoredTerms(const AssetSheet& directory, const json& files, FactoredFabric& fabric,
                        const std::function<Error(const std::string&)>& invalid) {
   const size_t views = fabric.view_count(), lights = fabric.light_count();
   std::vector<int> view_sides, light_sides;
@@ -259,11 +259,11 @@ std::string FactoredTermTextures::ShaderDefines() const {
 
 const FabricMethod& FactoredAsset::method() const { return FactoredMethod(); }
 
-void FactoredAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-                          const std::filesystem::path& directory) const {
+void FactoredAsset::WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                               const AssetSheet& directory) const {
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
-  std::filesystem::create_directories(directory);
+  std::filesystem::create_directories(directory.directory);
   json files = WriteFactoredTerms(fabric_, directory, half);
   const std::string views_sha =
       WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);

@@ -26,10 +26,10 @@ namespace loom {
 //
 // Writes every level's view and light terms (view_terms.exr, light_terms.exr) into
 // `directory`; returns their manifest "files" entries.
-nlohmann::json WriteFactoredTerms(const FactoredFabric& fabric, const std::filesystem::path& directory, bool half);
+nlohmann::json WriteFactoredTerms(const FactoredFabric& fabric, const AssetSheet& directory, bool half);
 // Reads them (checked against `files`) into each level's view_terms and light_terms;
 // `fabric`'s rank, directions and level resolutions must be set.
-void ReadFactoredTerms(const std::filesystem::path& directory, const nlohmann::json& files, FactoredFabric& fabric,
+void ReadFactoredTerms(const AssetSheet& directory, const nlohmann::json& files, FactoredFabric& fabric,
                        const std::function<Error(const std::string&)>& invalid);
 
 // The terms on the GPU, four to an RGBA layer of two texture arrays (MIP ℓ = level ℓ),
@@ -53,8 +53,8 @@ class FactoredAsset final : public FabricAsset {
   const FactoredFabric& fabric() const { return fabric_; }
 
   const FabricMethod& method() const override;
-  void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-             const std::filesystem::path& directory) const override;
+  void WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                  const AssetSheet& directory) const override;
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fabric_.seconds; }
   nlohmann::json Figures() const override;

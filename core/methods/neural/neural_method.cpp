@@ -120,7 +120,7 @@ class NeuralTextures final : public GpuFabric {
   GLuint decoder_ = 0;
 };
 
-NeuralFabric ReadNeural(const std::filesystem::path& directory) {
+NeuralFabric ReadNeural(const AssetSheet& directory) {
   const std::filesystem::path manifest_path = directory / kManifestFile;
   const auto invalid = [&manifest_path](const std::string& what) {
     return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
@@ -232,7 +232,7 @@ class Neural final : public FabricMethod {
     return std::make_unique<NeuralAsset>(std::move(fabric));
   }
 
-  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+  std::unique_ptr<FabricAsset> Read(const AssetSheet& directory) const override {
     return std::make_unique<NeuralAsset>(ReadNeural(directory));
   }
 };
@@ -241,11 +241,11 @@ class Neural final : public FabricMethod {
 
 const FabricMethod& NeuralAsset::method() const { return NeuralMethod(); }
 
-void NeuralAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-                        const std::filesystem::path& directory) const {
+void NeuralAsset::WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                             const AssetSheet& directory) const {
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
-  std::filesystem::create_directories(directory);
+  std::filesystem::create_directories(directory.directory);
   const uint32_t channels = fabric_.decoder.channels;
   LevelImage latents{LatentChannels(channels), {}, {}};
   for (const NeuralLevel& level : fabric_.levels) {

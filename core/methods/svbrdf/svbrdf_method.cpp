@@ -29,7 +29,7 @@ class Svbrdf final : public FabricMethod {
     return std::make_unique<SvbrdfAsset>(FitFabric(samples, settings, progress));
   }
 
-  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+  std::unique_ptr<FabricAsset> Read(const AssetSheet& directory) const override {
     return std::make_unique<SvbrdfAsset>(ReadFabricAsset(directory));
   }
 };
@@ -67,8 +67,8 @@ nlohmann::json SvbrdfFitFigures(const FittedFabric& fitted) {
 
 const FabricMethod& SvbrdfAsset::method() const { return SvbrdfMethod(); }
 
-void SvbrdfAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-                        const std::filesystem::path& directory) const {
+void SvbrdfAsset::WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                             const AssetSheet& directory) const {
   WriteFabricAsset(fit_, settings, fabric_key, directory);
 }
 

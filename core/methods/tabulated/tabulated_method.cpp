@@ -99,7 +99,7 @@ class TabulatedTextures final : public GpuFabric {
   LevelTexture views_, table_;
 };
 
-TabulatedFabric ReadTabulated(const std::filesystem::path& directory) {
+TabulatedFabric ReadTabulated(const AssetSheet& directory) {
   const std::filesystem::path manifest_path = directory / kManifestFile;
   const auto invalid = [&manifest_path](const std::string& what) {
     return Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": " + what);
@@ -173,7 +173,7 @@ class Tabulated final : public FabricMethod {
     return asset;
   }
 
-  std::unique_ptr<FabricAsset> Read(const std::filesystem::path& directory) const override {
+  std::unique_ptr<FabricAsset> Read(const AssetSheet& directory) const override {
     return std::make_unique<TabulatedAsset>(ReadTabulated(directory));
   }
 };
@@ -182,11 +182,11 @@ class Tabulated final : public FabricMethod {
 
 const FabricMethod& TabulatedAsset::method() const { return TabulatedMethod(); }
 
-void TabulatedAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-                           const std::filesystem::path& directory) const {
+void TabulatedAsset::WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                                const AssetSheet& directory) const {
   const v1::PrecomputeSettings resolved = WithDefaults(settings);
   const bool half = resolved.half_float();
-  std::filesystem::create_directories(directory);
+  std::filesystem::create_directories(directory.directory);
   const std::string table_sha = WriteLevelImage(TableImage(fabric_), directory / kTableFile, half);
   const std::string views_sha = WriteLevelImage(AmbientAlphaImage(fabric_.levels, fabric_.view_count()), directory / kViewsFile, half);
   const TableAssetHeader header{static_cast<uint32_t>(fabric_.view_count()),

@@ -23,8 +23,8 @@ class TabulatedAsset final : public FabricAsset {
   const TabulatedFabric& fabric() const { return fabric_; }
 
   const FabricMethod& method() const override;
-  void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
-             const std::filesystem::path& directory) const override;
+  void WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                  const AssetSheet& directory) const override;
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fabric_.seconds; }
   nlohmann::json Figures() const override;

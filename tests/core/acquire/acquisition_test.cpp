@@ -1,4 +1,5 @@
 #include "core/acquire/acquisition.h"
+#include "core/acquire/hemisphere_directions.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +105,35 @@ TEST(Acquisition, FlatPatchInTheMicroflakeModelHasRadianceItsBrdfTimesCosine) {
     }
   }
   EXPECT_GT(largest_specular, 0.05f);  // the specular term is there to be seen
+}
+
+TEST(Acquisition, FlatMicroflakePatchLitFromBehindHasRadianceItsBtdfTimesCosine) {
+  // Lights below the cloth (LightSide::kBack): the grid mirrored, and what reaches
+  // the top of an open patch is its transmission; a Kajiya-Kay patch stays black.
+  YarnMaterial material;
+  material.model = YarnShadingModel::kMicroflake;
+  material.diffuse_albedo = glm::vec3(0.4f);
+  material.specular_albedo = glm::vec3(0.5f);
+  material.roughness = 0.3f;
+  material.diffuse_transmission = 0.5f;
+  const FibreMicroflakeBrdf brdf(material);
+  const RadianceSamples s = Acquire(FlatPatch(0.25f, material), Settings(4, 16, 16, 0), {}, nullptr, {}, LightSide::kBack);
+  const std::vector<glm::vec3> grid = HemisphereGridDirections(16);
+  float largest_specular = 0.0f;
+  for (size_t light = 0; light < s.light_count(); ++light) {
+    const glm::vec3 l = s.light_directions[light];
+    ASSERT_EQ(l, glm::vec3(grid[light].x, grid[light].y, -grid[light].z));
+    for (size_t view = 0; view < s.view_count(); ++view) {
+      const glm::vec3 v = s.view_directions[view];
+      const float expected = brdf.Transmit({0, 0, 1}, {1, 0, 0}, l, v).r * -l.z;
+      EXPECT_NEAR(s.radiance[s.RadianceIndex(0, view, light)].r, expected, 1e-3f * expected) << view << " " << light;
+      largest_specular = std::max(largest_specular, expected - 0.2f / glm::pi<float>() * -l.z);
+    }
+  }
+  EXPECT_GT(largest_specular, 0.02f);
+  const RadianceSamples opaque = Acquire(FlatPatch(0.25f, Lambertian(0.7f)), Settings(4, 16, 16, 0), {}, nullptr, {},
+                                         LightSide::kBack);
+  for (const glm::vec3& radiance : opaque.radiance) EXPECT_EQ(radiance, glm::vec3(0.0f));
 }
 
 // --- Holes -----------------------------------------------------------------------------------

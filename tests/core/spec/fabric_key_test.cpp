@@ -138,8 +138,9 @@ TEST(FabricKey, YarnShadingIsPartOfTheKeyAndKajiyaKayIsUnset) {
   const std::string microflake = FabricKey(Fabric(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE"}]})"), {});
   EXPECT_NE(microflake, unset);
   EXPECT_EQ(FabricKey(Fabric(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", "height_scale": 1,
-                                  "lambert_blend": 1}]})"), {}), microflake);  // the defaults
-  for (const char* changed : {R"("height_scale": 0.5)", R"("lambert_blend": 0.5)", R"("roughness": 0.2)"}) {
+                                  "lambert_blend": 1, "diffuse_transmission": 0}]})"), {}), microflake);  // the defaults
+  for (const char* changed : {R"("height_scale": 0.5)", R"("lambert_blend": 0.5)", R"("roughness": 0.2)",
+                              R"("diffuse_transmission": 0.5)"}) {
     const std::string json =
         std::string(R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", )") + changed + "}]}";
     EXPECT_NE(FabricKey(Fabric(json.c_str()), {}), microflake) << changed;

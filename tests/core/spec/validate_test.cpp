@@ -119,6 +119,11 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"LambertBlendNegative",
                  R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", "lambert_blend": -0.5}]})",
                  "fabric.yarns[0].lambert_blend", "-0.5 is below 0"},
+        RuleCase{"DiffuseTransmissionTooLarge",
+                 R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", "diffuse_transmission": 1.5}]})",
+                 "fabric.yarns[0].diffuse_transmission", "1.5 exceeds 1"},
+        RuleCase{"DiffuseTransmissionWithKajiyaKay", R"({"woven": {}, "yarns": [{"diffuse_transmission": 0.5}]})",
+                 "fabric.yarns[0].diffuse_transmission", "only for shading YARN_SHADING_MICROFLAKE"},
         RuleCase{"HeightScaleWithKajiyaKay", R"({"woven": {}, "yarns": [{"height_scale": 0.5}]})",
                  "fabric.yarns[0].height_scale", "only for shading YARN_SHADING_MICROFLAKE"},
         RuleCase{"UnknownYarnShading", R"({"woven": {}, "yarns": [{"shading": 7}]})", "fabric.yarns[0].shading",
@@ -273,7 +278,9 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"LodBiasNotFinite", R"({"lod_bias": "NaN"})", "render.lod_bias", "NaN is not a finite number"},
         RuleCase{"UnknownFormat", R"({"format": 5})", "render.format", "5 is not a known ImageFormat value"},
         RuleCase{"UnknownShadingRate", R"({"shading_rate": 3})", "render.shading_rate",
-                 "3 is not a known ShadingRate value"}),
+                 "3 is not a known ShadingRate value"},
+        RuleCase{"UnknownShadingPass", R"({"shading_pass": 3})", "render.shading_pass",
+                 "3 is not a known ShadingPass value"}),
     CaseName);
 
 class SceneRule : public testing::TestWithParam<RuleCase> {};
