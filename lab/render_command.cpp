@@ -57,15 +57,24 @@ Image RenderGpu(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes
   GpuRenderer renderer(*context);
   RenderedFrame frame = RenderScene(renderer, scene, meshes, fits);
   figures["first_frame_ms"] = frame.cpu_ms;
-  double frame_ms = frame.cpu_ms, gpu_ms = frame.gpu_ms;
+  double frame_ms = frame.cpu_ms;
+  RenderedFrame fastest = frame;  // by GPU time, its passes with it
+  fastest.image = {};
   for (int i = 1; i < frames; ++i) {
     frame = RenderScene(renderer, scene, meshes, fits);
     frame_ms = std::min(frame_ms, frame.cpu_ms);
-    gpu_ms = std::min(gpu_ms, frame.gpu_ms);
+    if (frame.gpu_ms < fastest.gpu_ms) {
+      fastest = frame;
+      fastest.image = {};
+    }
   }
   figures["frames"] = frames;
   figures["frame_ms"] = frame_ms;
-  figures["gpu_ms"] = gpu_ms;
+  figures["gpu_ms"] = fastest.gpu_ms;
+  figures["shadow_gpu_ms"] = fastest.shadow_gpu_ms;
+  figures["cloth_gpu_ms"] = fastest.cloth_gpu_ms;
+  figures["shading_pass"] = frame.compute_pass ? "compute" : "fragment";
+  if (frame.compute_pass) figures["shaded_in_place"] = frame.shaded_in_place;
   figures["device"] = DeviceJson(context->info());
   return std::move(frame.image);
 }
@@ -83,7 +92,7 @@ Image RenderReference(const v1::SceneSpec& scene, const std::vector<SceneMesh>& 
 
 LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   struct Options {
-    std::string scene, out, method, level_mode, texel_filter, shading_rate, fabric_cache;
+    std::string scene, out, method, level_mode, texel_filter, shading_rate, shading_pass, fabric_cache;
     std::optional<float> lod_bias;
     int frames = 1;
     GlFlags gl;
@@ -108,6 +117,10 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--shading-rate", options->shading_rate,
                       "cloth shaded once per pixel or once per MSAA sample (default: the scene's render.shading_rate)")
       ->check(CLI::IsMember({"pixel", "sample"}));
+  command->add_option("--shading-pass", options->shading_pass,
+                      "cloth shaded in its fragment shader or in a compute pass over G-buffers (default: the "
+                      "scene's render.shading_pass)")
+      ->check(CLI::IsMember({"fragment", "compute"}));
   command->add_option("--frames", options->frames,
                       "svbrdf: render this many frames and report the fastest (the first compiles and allocates)")
       ->check(CLI::Range(1, 1000));
@@ -143,6 +156,11 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
               v1::ShadingRate rate = v1::SHADING_RATE_UNSPECIFIED;
               v1::ShadingRate_Parse(EnumName("SHADING_RATE_", options->shading_rate), &rate);
               render.set_shading_rate(rate);
+            }
+            if (!options->shading_pass.empty()) {
+              v1::ShadingPass pass = v1::SHADING_PASS_UNSPECIFIED;
+              v1::ShadingPass_Parse(EnumName("SHADING_PASS_", options->shading_pass), &pass);
+              render.set_shading_pass(pass);
             }
             scene = WithDefaults(scene);
             ValidateOrThrow(scene);

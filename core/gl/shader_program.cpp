@@ -131,20 +131,31 @@ ShaderProgram ShaderProgram::Link(const std::vector<ShaderStage>& stages) {
   return ShaderProgram(program);
 }
 
+namespace {
+
+// `text` with `defines` after its #version line, which must come first; #line keeps
+// the file's numbering.
+std::string WithDefines(std::string_view text, std::string_view defines) {
+  std::string out(text);
+  if (defines.empty()) return out;
+  const size_t first_line = out.find('\n');
+  if (first_line == std::string::npos) throw Error(ErrorCode::kInternal, "shader without a #version line");
+  out.insert(first_line + 1, std::string(defines) + "#line 2 0\n");
+  return out;
+}
+
+}  // namespace
+
 ShaderProgram ShaderProgram::FromEmbedded(std::string_view vertex_file, std::string_view fragment_file,
                                           std::string_view defines) {
-  // After the #version line, which must come first; #line keeps the file's numbering.
-  const auto with_defines = [defines](std::string_view text) {
-    std::string out(text);
-    if (defines.empty()) return out;
-    const size_t first_line = out.find('\n');
-    if (first_line == std::string::npos) throw Error(ErrorCode::kInternal, "shader without a #version line");
-    out.insert(first_line + 1, std::string(defines) + "#line 2 0\n");
-    return out;
-  };
   const std::string vertex(vertex_file), fragment(fragment_file);
-  return Link({{GL_VERTEX_SHADER, vertex, with_defines(FindEmbedded(vertex))},
-               {GL_FRAGMENT_SHADER, fragment, with_defines(FindEmbedded(fragment))}});
+  return Link({{GL_VERTEX_SHADER, vertex, WithDefines(FindEmbedded(vertex), defines)},
+               {GL_FRAGMENT_SHADER, fragment, WithDefines(FindEmbedded(fragment), defines)}});
+}
+
+ShaderProgram ShaderProgram::ComputeFromEmbedded(std::string_view file, std::string_view defines) {
+  const std::string name(file);
+  return Link({{GL_COMPUTE_SHADER, name, WithDefines(FindEmbedded(name), defines)}});
 }
 
 ShaderProgram ShaderProgram::FromEmbedded(std::string_view base) {

@@ -28,6 +28,8 @@ class ShaderProgram {
                                     std::string_view defines = {});
   // "<base>.vert" and "<base>.frag".
   static ShaderProgram FromEmbedded(std::string_view base);
+  // The embedded file compiled as a compute shader, with `defines` as above.
+  static ShaderProgram ComputeFromEmbedded(std::string_view file, std::string_view defines = {});
 
   ShaderProgram(ShaderProgram&& other) noexcept : program_(other.program_) { other.program_ = 0; }
   ShaderProgram& operator=(ShaderProgram&& other) noexcept;

@@ -118,6 +118,28 @@ void SetSampleShading(bool on) {
   }
 }
 
+// Where cloth is shaded (render.shading_pass): the compute pass only when asked,
+// and not shaded per sample (the G-buffer holds one sample a pixel). The fragment
+// pass measured faster on both GPUs measured, llvmpipe and an NVIDIA H200
+// (docs/gpu.md, "Where cloth is shaded").
+bool UsesComputePass(const v1::RenderSettings& settings, int samples) {
+  return settings.shading_pass() == v1::SHADING_PASS_COMPUTE && !SampleShading(settings, samples);
+}
+
+// The defines of each cloth program of the compute pass (core/shaders/cloth.glsl).
+const char* PassDefines(ClothPass pass) {
+  switch (pass) {
+    case ClothPass::kGbuffer:
+      return "#define LOOM_CLOTH_GBUFFER\n";
+    case ClothPass::kCompute:
+      return "#define LOOM_CLOTH_COMPUTE\n";
+    case ClothPass::kComposite:
+      return "#define LOOM_CLOTH_COMPOSITE\n";
+    default:
+      return "";
+  }
+}
+
 gl::ShaderProgram OpaqueProgram() {
   gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag");
   program.Set("u_shadow_maps", kShadowUnit);
@@ -129,15 +151,18 @@ gl::ShaderProgram OpaqueProgram() {
 GpuRenderer::GpuRenderer(gl::EglContext& context)
     : context_(context), opaque_program_((context.MakeCurrent(), OpaqueProgram())) {}
 
-gl::ShaderProgram& GpuRenderer::ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings) {
+gl::ShaderProgram& GpuRenderer::ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings,
+                                                ClothPass pass) {
   const FabricMethod& method = fabric.method();
-  std::string defines = fabric.ShaderDefines();
+  std::string defines = fabric.ShaderDefines() + PassDefines(pass);
   if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
   if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
   const std::string key = std::string(method.cloth_shader()) + "\n" + defines;
   auto found = cloth_programs_.find(key);
   if (found == cloth_programs_.end()) {
-    gl::ShaderProgram program = gl::ShaderProgram::FromEmbedded("scene.vert", method.cloth_shader(), defines);
+    gl::ShaderProgram program =
+        pass == ClothPass::kCompute ? gl::ShaderProgram::ComputeFromEmbedded(method.cloth_shader(), defines)
+                                    : gl::ShaderProgram::FromEmbedded("scene.vert", method.cloth_shader(), defines);
     program.Set("u_shadow_maps", kShadowUnit);
     found = cloth_programs_.emplace(key, std::move(program)).first;
   }
@@ -149,16 +174,37 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
-  // Each object's cloth program, and every program of the frame once.
-  std::vector<const gl::ShaderProgram*> cloth(meshes.size(), nullptr);
+  const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
+  const int samples = MsaaSamples(settings);
+  const bool per_sample = SampleShading(settings, samples);
+  const bool compute = UsesComputePass(settings, samples);
+  // Each object's cloth programs, and its back sheet's (FabricAsset::back); every
+  // program of the frame once.
+  std::vector<ClothPrograms> cloth(meshes.size()), back(meshes.size());
   std::vector<const gl::ShaderProgram*> programs = {&opaque_program_};
+  const auto add = [&programs](const gl::ShaderProgram* program) {
+    if (program != nullptr && std::find(programs.begin(), programs.end(), program) == programs.end()) {
+      programs.push_back(program);
+    }
+  };
+  const auto programs_of = [&](const GpuFabric& fabric) {
+    ClothPrograms of;
+    if (compute) {
+      of.gbuffer = &ClothProgramFor(fabric, settings, ClothPass::kGbuffer);
+      of.compute = &ClothProgramFor(fabric, settings, ClothPass::kCompute);
+      of.shade = &ClothProgramFor(fabric, settings, ClothPass::kComposite);
+    } else {
+      of.shade = &ClothProgramFor(fabric, settings, ClothPass::kShade);
+    }
+    for (const gl::ShaderProgram* program : {of.shade, of.gbuffer, of.compute}) add(program);
+    return of;
+  };
   for (size_t i = 0; i < meshes.size() && i < fabrics.size(); ++i) {
     if (fabrics[i] == nullptr) continue;
-    cloth[i] = &ClothProgramFor(*fabrics[i], settings);
-    if (std::find(programs.begin(), programs.end(), cloth[i]) == programs.end()) programs.push_back(cloth[i]);
+    cloth[i] = programs_of(*fabrics[i]);
+    if (fabrics[i]->back() != nullptr) back[i] = programs_of(*fabrics[i]->back());
   }
   const auto cloth_programs = std::span(programs).subspan(1);
-  const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
     shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
   }
@@ -176,13 +222,17 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     }
   }
 
-  gl::GpuTimer timer;
+  gl::GpuTimer timer, shadow_timer, cloth_timer;
   timer.Start();
-
+  shadow_timer.Start();
   SetUpLights(scene, BoundsOf(meshes), opaque_casters, cloth_casters, *shadows_, programs);
+  shadow_timer.Stop();
 
-  const int samples = MsaaSamples(settings);
-  const bool per_sample = SampleShading(settings, samples);
+  if (compute && (!gbuffer_ || gbuffer_->width() != width || gbuffer_->height() != height)) {
+    gbuffer_.reset();
+    gbuffer_ = std::make_unique<ClothGbuffer>(width, height);
+  }
+  if (compute) gbuffer_->ResetCounter();
   if (!target_ || target_->width() != width || target_->height() != height || target_->samples() != samples) {
     target_.reset();  // before the new one: at 1080p with 4× MSAA it holds about 200 MB
     target_ = std::make_unique<gl::Framebuffer>(width, height, samples);
@@ -214,31 +264,104 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
   // lies behind show through), exact for one layer of cloth over anything opaque.
   // Only a cloth seen through its own holes (a fold) depends on triangle order.
+  // A cloth with a back sheet is drawn again at once with it, adding the light from
+  // behind its surface where its front was drawn (equal depth; no ambient twice).
+  const auto draw_cloth = [&](size_t i, const GpuFabric& fabric, const ClothPrograms& of) {
+    const glm::vec2 repeat = FabricRepeat(*meshes[i].object);
+    if (of.compute != nullptr) ShadeInComputePass(*buffers[i], fabric, repeat, of);
+    of.shade->Use();
+    fabric.Bind(*of.shade, kFabricUnit, repeat);
+    buffers[i]->Draw();
+  };
+  bool cloth_started = false;
   for (const size_t i : DrawOrder(meshes, fabrics, camera.position)) {
     const v1::SceneObject& object = *meshes[i].object;
     const GpuFabric* fabric = i < fabrics.size() ? fabrics[i] : nullptr;
-    if (fabric != nullptr) {
-      cloth[i]->Use();
-      SetSampleShading(per_sample);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-      fabric->Bind(*cloth[i], kFabricUnit, FabricRepeat(object));
-    } else {
+    if (fabric == nullptr) {
       SetSampleShading(false);
       opaque_program_.Use();
       opaque_program_.Set("u_base_colour", ToGlm(object.base_colour()));
+      buffers[i]->Draw();
+      continue;
     }
-    buffers[i]->Draw();
+    if (!cloth_started) cloth_timer.Start();
+    cloth_started = true;
+    SetSampleShading(per_sample);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    draw_cloth(i, *fabric, cloth[i]);
+    if (fabric->back() != nullptr) {
+      for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
+        if (program == nullptr) continue;
+        program->Set("u_back_sheet", 1);
+        program->Set("u_ambient", glm::vec3(0.0f));
+      }
+      glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      draw_cloth(i, *fabric->back(), back[i]);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
+        if (program == nullptr) continue;
+        program->Set("u_back_sheet", 0);
+        program->Set("u_ambient", ToGlm(scene.ambient()));
+      }
+    }
   }
+  if (!cloth_started) cloth_timer.Start();
   glDisable(GL_BLEND);
   SetSampleShading(false);
+  cloth_timer.Stop();
   timer.Stop();
 
   RenderedFrame frame;
   frame.image = target_->ReadPixels();
   frame.gpu_ms = timer.Milliseconds();
+  frame.shadow_gpu_ms = shadow_timer.Milliseconds();
+  frame.cloth_gpu_ms = cloth_timer.Milliseconds();
+  frame.compute_pass = compute;
+  if (compute) frame.shaded_in_place = gbuffer_->Counter();
   frame.cpu_ms = stopwatch.Milliseconds();
   return frame;
+}
+
+// The compute pass's first passes over one cloth: the G-buffers of its two nearest
+// layers, then their shadings; the composite (programs.shade) then draws the cloth
+// with them.
+// Leaves the frame's target bound, with its depth test and blending as they were.
+void GpuRenderer::ShadeInComputePass(const gl::MeshBuffer& mesh, const GpuFabric& fabric, glm::vec2 repeat,
+                                     const ClothPrograms& programs) {
+  GLboolean blend = GL_FALSE, depth_mask = GL_TRUE;
+  GLint depth_func = GL_LESS;
+  glGetBooleanv(GL_BLEND, &blend);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
+  glGetIntegerv(GL_DEPTH_FUNC, &depth_func);
+  // What the last composite read of the images is done before they are written again.
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  glDisable(GL_BLEND);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  programs.gbuffer->Use();
+  fabric.Bind(*programs.gbuffer, kFabricUnit, repeat);
+  for (int layer = 0; layer < ClothGbuffer::kLayers; ++layer) {
+    gbuffer_->BindAndClear(layer);
+    programs.gbuffer->Set("u_peel", layer > 0 ? 1 : 0);
+    mesh.Draw();
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  }
+  programs.compute->Use();
+  fabric.Bind(*programs.compute, kFabricUnit, repeat);
+  for (int layer = 0; layer < ClothGbuffer::kLayers; ++layer) {
+    gbuffer_->BindForCompute(layer);
+    gbuffer_->Dispatch();
+  }
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_ATOMIC_COUNTER_BARRIER_BIT);
+  gbuffer_->BindForComposite();
+  target_->Bind();
+  if (blend) glEnable(GL_BLEND);
+  glDepthFunc(static_cast<GLenum>(depth_func));
+  glDepthMask(depth_mask);
 }
 
 }  // namespace loom

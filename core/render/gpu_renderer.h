@@ -18,8 +18,10 @@
 #include "core/gl/egl_context.h"
 #include "core/gl/framebuffer.h"
 #include "core/gl/shader_program.h"
+#include "core/gl/mesh_buffer.h"
 #include "core/image/image.h"
 #include "core/methods/fabric_method.h"
+#include "core/render/cloth_gbuffer.h"
 #include "core/render/shadow_maps.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/scene.pb.h"
@@ -30,6 +32,23 @@ struct RenderedFrame {
   Image image;          // linear radiance, RGBA (alpha 1)
   double cpu_ms = 0.0;  // wall time of Render, upload and read-back included
   double gpu_ms = 0.0;  // GPU time of the shadow and main passes (GL timestamps)
+  double shadow_gpu_ms = 0.0;  // of which the shadow maps
+  double cloth_gpu_ms = 0.0;   // of which the cloth, every pass of it
+  bool compute_pass = false;   // cloth shaded in the compute pass (render.shading_pass)
+  // The compute pass: fragments its composite shaded in place, for want of their
+  // pixel in the G-buffer (core/shaders/cloth.glsl).
+  uint64_t shaded_in_place = 0;
+};
+
+// The programs a cloth is drawn with (core/shaders/cloth.glsl): `shade` draws it
+// into the frame, by itself in the fragment pass or as the composite of the
+// compute pass, which first fills the G-buffer with `gbuffer` and shades its pixels
+// with `compute` (both null in the fragment pass).
+enum class ClothPass { kShade, kGbuffer, kCompute, kComposite };
+struct ClothPrograms {
+  const gl::ShaderProgram* shade = nullptr;
+  const gl::ShaderProgram* gbuffer = nullptr;
+  const gl::ShaderProgram* compute = nullptr;
 };
 
 class GpuRenderer {
@@ -50,7 +69,9 @@ class GpuRenderer {
   // (core/shaders/cloth.glsl: llvmpipe runs both sides of a branch, even on a
   // uniform), each made the first time a scene asks for it, keyed by its shader and
   // defines.
-  gl::ShaderProgram& ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings);
+  gl::ShaderProgram& ClothProgramFor(const GpuFabric& fabric, const v1::RenderSettings& settings, ClothPass pass);
+  void ShadeInComputePass(const gl::MeshBuffer& mesh, const GpuFabric& fabric, glm::vec2 repeat,
+                          const ClothPrograms& programs);
 
   gl::EglContext& context_;
   std::map<std::string, gl::ShaderProgram> cloth_programs_;  // by shader and defines
@@ -59,6 +80,7 @@ class GpuRenderer {
   // multisampled float target (about 200 MB at 1080p) cost llvmpipe ~50 ms a frame.
   std::unique_ptr<gl::Framebuffer> target_;
   std::unique_ptr<ShadowMaps> shadows_;
+  std::unique_ptr<ClothGbuffer> gbuffer_;  // the compute pass's, kept alike
 };
 
 }  // namespace loom

@@ -21,6 +21,8 @@ uniform sampler2D u_fabric_view_heights; // k×k: each stored view's sampling he
 uniform int u_level_mode;                // 1 none, 2 nearest, 3 trilinear, 4 anisotropic (LevelMode)
 uniform float u_lod_bias;                // levels added to the footprint's (render.lod_bias); 0 in the shadow pass
 uniform float u_sample_lod_bias;         // shaded per MSAA sample: −½·log2(samples), else 0 (FabricLevels)
+uniform bool u_back_sheet;               // a back sheet shades the lights behind the surface,
+                                         // their directions mirrored through it (FabricAsset::back)
 #ifdef LOOM_FABRIC_LIGHT_GRID
 uniform int u_fabric_light_side;         // the light grid is k_l×k_l
 #endif
@@ -89,8 +91,11 @@ FabricFragment GatherFabricFragment(vec3 view, mat3 to_surface, vec3 position, v
   fragment.ambient = ambient;
   for (int i = 0; i < u_light_count; ++i) {
     vec3 irradiance;
-    fragment.light_direction[i] = to_surface * LightDirection(i, position, irradiance);
-    fragment.light_irradiance[i] = irradiance * LightVisibility(i, position, normal);
+    vec3 direction = to_surface * LightDirection(i, position, irradiance);
+    float side = u_back_sheet ? -1.0 : 1.0;
+    direction.z *= side;
+    fragment.light_direction[i] = direction;
+    fragment.light_irradiance[i] = irradiance * LightVisibility(i, position, normal * side);
 #ifdef LOOM_FABRIC_LIGHT_GRID
     float beyond_ring;
     LocateOnGrid(fragment.light_direction[i], float(u_fabric_light_side), fragment.light_grid[i], beyond_ring);
@@ -178,8 +183,8 @@ struct FabricFootprint {
   float centring;  // shaded per sample: 0 at the sample, 1 at the pixel's centre
 };
 
-FabricFootprint FabricLevels(vec2 tile) {
-  vec2 du = dFdx(tile), dv = dFdy(tile);
+// From the tile coordinate's screen derivatives along x and y.
+FabricFootprint FabricLevelsFrom(vec2 du, vec2 dv) {
   float lu = length(du) * float(u_fabric_resolution), lv = length(dv) * float(u_fabric_resolution);
   FabricFootprint f;
   f.samples = 1;  // one shading at the fragment: `axis` is not read
@@ -202,6 +207,11 @@ FabricFootprint FabricLevels(vec2 tile) {
   f.blend = lambda - float(f.level0);
   return f;
 }
+
+#ifndef LOOM_CLOTH_COMPUTE
+// At a fragment, in uniform control flow.
+FabricFootprint FabricLevels(vec2 tile) { return FabricLevelsFrom(dFdx(tile), dFdy(tile)); }
+#endif
 
 // The tile coordinate where a ray from `direction` (unit, surface frame) meets the
 // fabric at mesh uv `uv`. Acquisition sampled each view's texels on a plane above

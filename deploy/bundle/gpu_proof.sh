@@ -10,14 +10,18 @@
 # `loom fabric precompute`, renders the example scene with the same settings
 # (proof/scene.json, 480x270) with `loom render` into OUT_DIR/frame.exr and
 # frame.png, and prints the worker's GL renderer (loom-worker --probe --json) and
-# the time of each step; then runs frame_benchmark.sh (issue 5's figures: svbrdf at
-# 1920x1080 on the bench cloth, its GPU time, the reference's time and PSNR) into
-# OUT_DIR/frame-benchmark. If the bundle carries proof/llvmpipe.exr (the same frame
+# the time of each step; then runs frame_benchmark.sh (every method at 1920x1080 on
+# the bench cloth, its GPU time, the reference's time and PSNR) into
+# OUT_DIR/frame-benchmark, starting from the bench cloth's fabrics in proof/fabrics
+# when the bundle carries them (precomputed where it was made: the device's minutes
+# go to the frames). If the bundle carries proof/llvmpipe.exr (the same frame
 # made with --software on Mesa llvmpipe; make_bundle.sh's caller adds it), it
-# compares the two with loom-lab compare and fails unless PSNR >= 40 dB.
+# compares the two with loom-lab compare and fails unless PSNR >= 40 dB; a failed
+# frame benchmark render fails it too, after the rest has run.
 #
 # --software: the worker uses llvmpipe even on a GPU machine; this is how
-# proof/llvmpipe.exr is made. Environment: LOOM_PORT (default 7460).
+# proof/llvmpipe.exr is made. Environment: LOOM_PORT (default 7460), FRAMES (frames
+# per benchmark render, default 5).
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -74,15 +78,21 @@ loom render "$here/proof/scene.json" -o "$out/frame.png" >/dev/null
 echo "frame: $out/frame.exr, $out/frame.png"
 loom jobs list --kind render >"$out/jobs.txt" || true
 
-echo "== frame benchmark (frame_benchmark.sh: svbrdf at 1920x1080 on the bench cloth, and the reference)"
+echo "== frame benchmark (frame_benchmark.sh: every method at 1920x1080 on the bench cloth, and the reference)"
 start=$(now)
-LOOM_LAB="$run loom-lab" "$here/frame_benchmark.sh" "${worker_flags[@]}" "$out/frame-benchmark" 2>"$out/frame-benchmark.log"
+status=0
+if [[ -d "$here/proof/fabrics" ]]; then  # the bench cloth's fabrics, precomputed where the bundle was made
+  mkdir -p "$out/frame-benchmark"
+  cp -r "$here/proof/fabrics" "$out/frame-benchmark/"
+fi
+LOOM_LAB="$run loom-lab" "$here/frame_benchmark.sh" "${worker_flags[@]}" "$out/frame-benchmark" \
+  2>"$out/frame-benchmark.log" || status=1
 echo "frame benchmark: $(seconds_since "$start") s"
 
 reference=$here/proof/llvmpipe.exr
 if [[ ! -f "$reference" ]]; then
   echo "== no proof/llvmpipe.exr in the bundle: nothing to compare with"
-  exit 0
+  exit "$status"
 fi
 echo "== compare with proof/llvmpipe.exr (loom-lab compare)"
 "$run" loom-lab --json compare "$out/frame.exr" "$reference" --heatmap "$out/error.png" | tee "$out/compare.json"
@@ -95,3 +105,5 @@ else
   echo "FAIL: PSNR $psnr dB < $min_psnr_db dB"
   exit 1
 fi
+[[ $status -eq 0 ]] || echo "FAIL: a frame benchmark render failed (frame-benchmark.log)"
+exit "$status"
