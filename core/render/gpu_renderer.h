@@ -1,10 +1,13 @@
 #pragma once
 // The GPU frame renderer (DESIGN.md "Renderers"; render method RENDER_METHOD_SVBRDF):
 // rasterises a scene with OpenGL 4.5 core through EGL — the same code on an NVIDIA
-// GPU and on llvmpipe — with macro-scale shadow maps and MSAA. Cloth is shaded per
-// fragment by its fabric's method (core/methods/fabric_method.h: the method's cloth
-// program, core/shaders/cloth.glsl); objects without a fabric are Lambertian in
-// their base colour (opaque.frag), a program of their own.
+// GPU and on llvmpipe — with macro-scale shadow maps and MSAA. Cloth is shaded by its
+// fabric's method (core/methods/fabric_method.h: the method's cloth program,
+// core/shaders/cloth.glsl), per fragment or, with render.shading_pass COMPUTE, in a
+// compute pass over G-buffers (ClothGbuffer); a cloth with a back sheet
+// (FabricAsset::back) is drawn again with it for the light from behind. Objects
+// without a fabric are Lambertian in their base colour (opaque.frag), a program of
+// their own.
 //
 // Light units: a directional light's colour × intensity is the irradiance it brings
 // at normal incidence; a point light's is its intensity (irradiance = I / d²);
