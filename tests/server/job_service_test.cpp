@@ -247,7 +247,8 @@ TEST_F(ServiceTest, PrecomputeOfACachedFabricSucceedsAtOnceWithoutFittingAgain) 
 }
 
 // A yarn in the fibre-microflake model (issue 24) goes through the service like any
-// other: its own cache entry, beside the Kajiya-Kay knit's.
+// other: its own cache entry, beside the Kajiya-Kay knit's, which for a yarn that
+// passes light carries the back sheet a render worker reads back.
 TEST_F(ServiceTest, AMicroflakeYarnPrecomputesThroughTheServiceUnderItsOwnKey) {
   StartServer();
   client::JobClient client = Client();
@@ -262,6 +263,11 @@ TEST_F(ServiceTest, AMicroflakeYarnPrecomputesThroughTheServiceUnderItsOwnKey) {
   ASSERT_EQ(kajiya_kay.state(), v1::JOB_STATE_SUCCEEDED) << kajiya_kay.error();
   EXPECT_NE(kajiya_kay.fabric_key(), microflake.fabric_key());
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 2);
+  for (const v1::Job* job : {&microflake, &kajiya_kay}) {
+    const auto asset = data_dir_ / ("asset-" + job->fabric_key());
+    client.DownloadFabric(job->fabric_key(), asset);
+    EXPECT_EQ(ReadAnyFabricAsset(asset)->back() != nullptr, job == &microflake);
+  }
 }
 
 // For every fabric method: the worker precomputes the method's asset, and the served
