@@ -294,9 +294,7 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   const unsigned threads = ResolveThreadCount(options.threads);
 
   std::vector<glm::vec3> light_directions = HemisphereGridDirections(settings.light_directions());
-  if (side == LightSide::kBack) {
-    for (glm::vec3& l : light_directions) l.z = -l.z;
-  }
+  if (side == LightSide::kBack) light_directions = MirroredThroughTheSurface(std::move(light_directions));
   RadianceSamples samples(settings.spatial_resolution(), HemisphereGridDirections(settings.view_directions()),
                           std::move(light_directions));
   const size_t texels = samples.texel_count();

@@ -87,6 +87,11 @@ std::vector<glm::vec3> HemisphereGridDirections(uint32_t count) {
   return directions;
 }
 
+std::vector<glm::vec3> MirroredThroughTheSurface(std::vector<glm::vec3> directions) {
+  for (glm::vec3& d : directions) d.z = -d.z;
+  return directions;
+}
+
 glm::vec2 HemisphereGridCoordinates(glm::vec3 direction, uint32_t side) {
   return HemisphereToSquare(direction) * static_cast<float>(side) - 0.5f;
 }

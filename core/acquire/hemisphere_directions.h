@@ -44,6 +44,10 @@ uint32_t HemisphereGridSide(uint32_t count);
 // All k² unit directions in index order (row-major, see above).
 std::vector<glm::vec3> HemisphereGridDirections(uint32_t count);
 
+// `directions` mirrored through the surface (z negated): a grid below the cloth, or
+// one below brought back above it.
+std::vector<glm::vec3> MirroredThroughTheSurface(std::vector<glm::vec3> directions);
+
 // Continuous grid coordinates of a direction on a k×k grid, in [−½, k − ½]².
 glm::vec2 HemisphereGridCoordinates(glm::vec3 direction, uint32_t side);
 

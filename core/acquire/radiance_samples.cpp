@@ -123,12 +123,12 @@ std::string EncodeRadianceSamples(const RadianceSamples& s) {
 // and normal lengths in [0, 1], unit normals and tangents, radiance >= 0.
 template <typename Fail>
 void CheckValues(const RadianceSamples& s, const Fail& fail) {
-  // The grid, or with `mirrored` the grid below the cloth (every z negated).
+  // The grid, or with `mirrored` the grid below the cloth.
   const auto same_grid = [](const std::vector<glm::vec3>& given, bool mirrored) {
-    const std::vector<glm::vec3> grid = HemisphereGridDirections(static_cast<uint32_t>(given.size()));
-    const glm::vec3 mirror(1.0f, 1.0f, mirrored ? -1.0f : 1.0f);
+    std::vector<glm::vec3> grid = HemisphereGridDirections(static_cast<uint32_t>(given.size()));
+    if (mirrored) grid = MirroredThroughTheSurface(std::move(grid));
     for (size_t i = 0; i < grid.size(); ++i) {
-      if (glm::length(given[i] - grid[i] * mirror) > 1e-5f) return false;
+      if (glm::length(given[i] - grid[i]) > 1e-5f) return false;
     }
     return true;
   };

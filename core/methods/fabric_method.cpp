@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/acquire/hemisphere_directions.h"
 #include "core/methods/factored/factored_method.h"
 #include "core/methods/neural/neural_method.h"
 #include "core/methods/svbrdf/svbrdf_method.h"
@@ -87,7 +88,7 @@ void FabricAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
 }
 
 RadianceSamples MirroredLights(RadianceSamples samples) {
-  for (glm::vec3& l : samples.light_directions) l.z = -l.z;
+  samples.light_directions = MirroredThroughTheSurface(std::move(samples.light_directions));
   return samples;
 }
 

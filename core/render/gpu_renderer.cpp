@@ -291,22 +291,22 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     draw_cloth(i, *fabric, cloth[i]);
     if (fabric->back() != nullptr) {
-      for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
-        if (program == nullptr) continue;
-        program->Set("u_back_sheet", 1);
-        program->Set("u_ambient", glm::vec3(0.0f));
-      }
+      // A program may draw fronts too (the same method and defines): set back after.
+      const auto as_back_sheet = [&](bool on) {
+        for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
+          if (program == nullptr) continue;
+          program->Set("u_back_sheet", on ? 1 : 0);
+          program->Set("u_ambient", on ? glm::vec3(0.0f) : ToGlm(scene.ambient()));
+        }
+      };
+      as_back_sheet(true);
       glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
       glDepthFunc(GL_EQUAL);
       glDepthMask(GL_FALSE);
       draw_cloth(i, *fabric->back(), back[i]);
       glDepthFunc(GL_LESS);
       glDepthMask(GL_TRUE);
-      for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
-        if (program == nullptr) continue;
-        program->Set("u_back_sheet", 0);
-        program->Set("u_ambient", ToGlm(scene.ambient()));
-      }
+      as_back_sheet(false);
     }
   }
   if (!cloth_started) cloth_timer.Start();
