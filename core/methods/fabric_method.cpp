@@ -74,17 +74,47 @@ std::string MethodNames() {
   return names;
 }
 
+std::string ColourSheetPrefix(size_t index) { return "colour" + std::to_string(index) + "-"; }
+
 void FabricAsset::Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
                         const std::filesystem::path& directory) const {
-  // The manifests say whether there is a back sheet, whatever `settings` left unset.
+  // The manifests say whether there are back and colour sheets, whatever `settings`
+  // left unset.
   v1::PrecomputeSettings recorded = settings;
   if (back_) {
     recorded.set_transmission(true);
   } else {
     recorded.clear_transmission();
   }
-  if (back_) back_->WriteSheet(recorded, fabric_key, AssetSheet(directory, kBackSheetPrefix));
-  WriteSheet(recorded, fabric_key, directory);
+  if (colour_channels_) {
+    recorded.set_colour_components(true);
+  } else {
+    recorded.clear_colour_components();
+  }
+  if (colour_channels_) {
+    std::filesystem::create_directories(directory);
+    std::vector<SheetChannels> channels = {*colour_channels_};
+    for (size_t i = 0; i < colour_sheets_.size(); ++i) {
+      colour_sheets_[i]->WriteSides(recorded, fabric_key, AssetSheet(directory, ColourSheetPrefix(i + 1)));
+      channels.push_back(colour_sheets_[i]->colour_channels().value());
+    }
+    WriteFileAtomic(directory / kColourSheetsFile, ColourSheetsJson(channels).dump());
+  }
+  WriteSides(recorded, fabric_key, directory);
+}
+
+void FabricAsset::WriteSides(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
+                             const AssetSheet& sheet) const {
+  if (back_) back_->WriteSheet(settings, fabric_key, AssetSheet(sheet.directory, sheet.prefix + kBackSheetPrefix));
+  WriteSheet(settings, fabric_key, sheet);
+}
+
+std::unique_ptr<GpuFabric> UploadSheets(const FabricAsset& asset, bool half) {
+  std::unique_ptr<GpuFabric> uploaded = asset.Upload(half);
+  if (asset.back() != nullptr) uploaded->back_ = asset.back()->Upload(half);
+  uploaded->colour_channels_ = asset.colour_channels();
+  for (const auto& sheet : asset.colour_sheets()) uploaded->colour_sheets_.push_back(UploadSheets(*sheet, half));
+  return uploaded;
 }
 
 RadianceSamples MirroredLights(RadianceSamples samples) {
@@ -95,12 +125,14 @@ RadianceSamples MirroredLights(RadianceSamples samples) {
 std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& directory) {
   const std::filesystem::path manifest_path = directory / "manifest.json";
   std::string name = "svbrdf";
-  bool transmission = false;
+  bool transmission = false, colour_components = false;
   try {
     const nlohmann::json manifest = nlohmann::json::parse(ReadFile(manifest_path));
     if (manifest.contains("method")) name = manifest.at("method").get<std::string>();
-    if (manifest.contains("settings") && manifest.at("settings").contains("transmission")) {
-      transmission = manifest.at("settings").at("transmission").get<bool>();
+    if (manifest.contains("settings")) {
+      const nlohmann::json& settings = manifest.at("settings");
+      transmission = settings.value("transmission", false);
+      colour_components = settings.value("colour_components", false);
     }
   } catch (const nlohmann::json::exception& e) {
     throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + " is not a valid manifest: " + e.what());
@@ -109,8 +141,31 @@ std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& dir
   if (method == nullptr) {
     throw Error(ErrorCode::kInvalidArgument, manifest_path.string() + ": method '" + name + "' is not one this engine has");
   }
-  std::unique_ptr<FabricAsset> asset = method->Read(directory);
-  if (transmission) asset->set_back(method->Read(AssetSheet(directory, kBackSheetPrefix)));
+  const auto read_sides = [&](const AssetSheet& sheet) {
+    std::unique_ptr<FabricAsset> asset = method->Read(sheet);
+    if (transmission) asset->set_back(method->Read(AssetSheet(sheet.directory, sheet.prefix + kBackSheetPrefix)));
+    return asset;
+  };
+  std::unique_ptr<FabricAsset> asset = read_sides(directory);
+  if (colour_components) {
+    const std::filesystem::path sheets_path = directory / kColourSheetsFile;
+    const auto invalid = [&](const std::string& what) {
+      return Error(ErrorCode::kInvalidArgument, sheets_path.string() + ": " + what);
+    };
+    nlohmann::json json;
+    try {
+      json = nlohmann::json::parse(ReadFile(sheets_path));
+    } catch (const nlohmann::json::exception& e) {
+      throw invalid(std::string("not JSON: ") + e.what());
+    }
+    const std::vector<SheetChannels> sheets = ParseColourSheets(json, invalid);
+    asset->set_colour_channels(sheets.front());
+    for (size_t i = 1; i < sheets.size(); ++i) {
+      std::unique_ptr<FabricAsset> sheet = read_sides(AssetSheet(directory, ColourSheetPrefix(i)));
+      sheet->set_colour_channels(sheets[i]);
+      asset->add_colour_sheet(std::move(sheet));
+    }
+  }
   return asset;
 }
 

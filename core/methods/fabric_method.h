@@ -14,19 +14,23 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/acquire/radiance_samples.h"
 #include "core/gl/shader_program.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/colour_sheets.h"
 #include "core/methods/level_texture.h"
 #include "loom/v1/precompute.pb.h"
 
 namespace loom {
 
 class FabricMethod;
+class FabricAsset;
 
 // What fabric_surface.glsl needs of any method's asset on the GPU: the view atlas's
 // dimensions and each view's sampling height (RadianceSamples::view_heights, a k×k
@@ -67,10 +71,16 @@ class GpuFabric {
   virtual std::string ShaderDefines() const { return {}; }
   // The back sheet's (FabricAsset::back) upload, or null.
   const GpuFabric* back() const { return back_.get(); }
-  void set_back(std::unique_ptr<GpuFabric> back) { back_ = std::move(back); }
+  // The colour sheets' (FabricAsset::colour_channels): what this sheet's channels
+  // carry, and the further sheets.
+  const std::optional<SheetChannels>& colour_channels() const { return colour_channels_; }
+  const std::vector<std::unique_ptr<GpuFabric>>& colour_sheets() const { return colour_sheets_; }
 
  private:
+  friend std::unique_ptr<GpuFabric> UploadSheets(const FabricAsset& asset, bool half);
   std::unique_ptr<GpuFabric> back_;
+  std::optional<SheetChannels> colour_channels_;
+  std::vector<std::unique_ptr<GpuFabric>> colour_sheets_;
 };
 
 // A fabric asset in CPU memory: built from samples, or read from an asset directory.
@@ -78,12 +88,16 @@ class GpuFabric {
 // method built alike from the light behind the cloth, its lights mirrored above the
 // surface (MirroredLights), its files in the same directory named with
 // kBackSheetPrefix; the renderer shades lights behind the surface with it.
+// With PrecomputeSettings.colour_components its RGB are colour components
+// (core/methods/colour_sheets.h), and the fabric's further components are further
+// sheets, each an asset of the same method with its own back sheet, files named
+// with ColourSheetPrefix; the channels of every sheet are in kColourSheetsFile.
 class FabricAsset {
  public:
   virtual ~FabricAsset() = default;
   virtual const FabricMethod& method() const = 0;
-  // Writes the back sheet's files, then the asset's with its manifest last, into
-  // `directory`, creating it.
+  // Writes the further colour sheets' files, then the back sheet's, then the asset's
+  // with its manifest last, into `directory`, creating it.
   void Write(const v1::PrecomputeSettings& settings, const std::string& fabric_key,
              const std::filesystem::path& directory) const;
   // One sheet's files and manifest (last).
@@ -91,6 +105,10 @@ class FabricAsset {
                           const AssetSheet& sheet) const = 0;
   const FabricAsset* back() const { return back_.get(); }
   void set_back(std::unique_ptr<FabricAsset> back) { back_ = std::move(back); }
+  const std::optional<SheetChannels>& colour_channels() const { return colour_channels_; }
+  void set_colour_channels(const SheetChannels& channels) { colour_channels_ = channels; }
+  const std::vector<std::unique_ptr<FabricAsset>>& colour_sheets() const { return colour_sheets_; }
+  void add_colour_sheet(std::unique_ptr<FabricAsset> sheet) { colour_sheets_.push_back(std::move(sheet)); }
   // On the calling thread's current GL context; `half` stores what the method
   // allows in 16-bit floats.
   virtual std::unique_ptr<GpuFabric> Upload(bool half) const = 0;
@@ -102,8 +120,21 @@ class FabricAsset {
   virtual nlohmann::json Figures() const = 0;
 
  private:
+  // This sheet's back sheet's files, then its own.
+  void WriteSides(const v1::PrecomputeSettings& settings, const std::string& fabric_key, const AssetSheet& sheet) const;
+
   std::unique_ptr<FabricAsset> back_;
+  std::optional<SheetChannels> colour_channels_;
+  std::vector<std::unique_ptr<FabricAsset>> colour_sheets_;
 };
+
+// The file prefix of further colour sheet `index` (≥ 1; sheet 0 is the asset), and the
+// file beside the manifest listing every sheet's channels (ColourSheetsJson).
+std::string ColourSheetPrefix(size_t index);
+inline constexpr const char* kColourSheetsFile = "colour_sheets.json";
+
+// `asset` with its back sheet and colour sheets on the calling thread's GL context.
+std::unique_ptr<GpuFabric> UploadSheets(const FabricAsset& asset, bool half);
 
 // Back-lit samples (acquisition's LightSide::kBack) with every light mirrored
 // through the surface (z negated): what a method builds a back sheet from, as if
@@ -153,7 +184,8 @@ std::string MethodNames();
 
 // The asset in `directory`, read by the method its manifest names (a manifest
 // without "method" is svbrdf's, as written before methods), with its back sheet
-// when its settings have transmission (Error(kNotFound) if that is missing).
+// when its settings have transmission and its colour sheets when they have colour
+// components (Error(kNotFound) if one is missing).
 std::unique_ptr<FabricAsset> ReadAnyFabricAsset(const std::filesystem::path& directory);
 
 }  // namespace loom

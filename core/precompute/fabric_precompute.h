@@ -17,7 +17,7 @@ namespace loom {
 struct PrecomputeStats {
   double geometry_seconds = 0.0;
   size_t tile_triangles = 0;
-  AcquireStats acquisition;  // seconds and rays of both sides with a back sheet
+  AcquireStats acquisition;  // seconds and rays: the sum over every sheet and side
   double mean_alpha = 0.0;  // the build's time is FabricAsset::build_seconds
 };
 

@@ -12,6 +12,7 @@
 #include "core/gl/mesh_buffer.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_light.h"
+#include "core/spec/defaults.h"
 #include "core/util/stopwatch.h"
 
 namespace loom {
@@ -178,9 +179,9 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   const int samples = MsaaSamples(settings);
   const bool per_sample = SampleShading(settings, samples);
   const bool compute = UsesComputePass(settings, samples);
-  // Each object's cloth programs, and its back sheet's (FabricAsset::back); every
-  // program of the frame once.
-  std::vector<ClothPrograms> cloth(meshes.size()), back(meshes.size());
+  // Each cloth object's draws, one per sheet of its asset, and every program of the
+  // frame once.
+  std::vector<std::vector<SheetDraw>> cloth(meshes.size());
   std::vector<const gl::ShaderProgram*> programs = {&opaque_program_};
   const auto add = [&programs](const gl::ShaderProgram* program) {
     if (program != nullptr && std::find(programs.begin(), programs.end(), program) == programs.end()) {
@@ -201,8 +202,15 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   };
   for (size_t i = 0; i < meshes.size() && i < fabrics.size(); ++i) {
     if (fabrics[i] == nullptr) continue;
-    cloth[i] = programs_of(*fabrics[i]);
-    if (fabrics[i]->back() != nullptr) back[i] = programs_of(*fabrics[i]->back());
+    const v1::FabricSpec fabric = WithDefaults(meshes[i].object->fabric().fabric());
+    const auto add_sheet = [&](const GpuFabric& sheet) {
+      const glm::mat3 colours =
+          sheet.colour_channels() ? SheetColours(fabric, *sheet.colour_channels()) : glm::mat3(1.0f);
+      cloth[i].push_back({&sheet, programs_of(sheet), false, colours});
+      if (sheet.back() != nullptr) cloth[i].push_back({sheet.back(), programs_of(*sheet.back()), true, colours});
+    };
+    add_sheet(*fabrics[i]);
+    for (const auto& sheet : fabrics[i]->colour_sheets()) add_sheet(*sheet);
   }
   const auto cloth_programs = std::span(programs).subspan(1);
   if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
@@ -264,8 +272,10 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   // a fabric's alpha is the fraction of the pixel its yarns cover (holes let what
   // lies behind show through), exact for one layer of cloth over anything opaque.
   // Only a cloth seen through its own holes (a fold) depends on triangle order.
-  // A cloth with a back sheet is drawn again at once with it, adding the light from
-  // behind its surface where its front was drawn (equal depth; no ambient twice).
+  // A cloth with further sheets is drawn again at once with each, adding its light
+  // where the first was drawn (equal depth): a back sheet's from behind the surface
+  // (no ambient twice), a colour sheet's from its components; each sheet's channels
+  // mapped to RGB by its colours (identity but for colour components).
   const auto draw_cloth = [&](size_t i, const GpuFabric& fabric, const ClothPrograms& of) {
     const glm::vec2 repeat = FabricRepeat(*meshes[i].object);
     if (of.compute != nullptr) ShadeInComputePass(*buffers[i], fabric, repeat, of);
@@ -289,25 +299,24 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
     SetSampleShading(per_sample);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-    draw_cloth(i, *fabric, cloth[i]);
-    if (fabric->back() != nullptr) {
-      // A program may draw fronts too (the same method and defines): set back after.
-      const auto as_back_sheet = [&](bool on) {
-        for (const gl::ShaderProgram* program : {back[i].shade, back[i].compute}) {
-          if (program == nullptr) continue;
-          program->Set("u_back_sheet", on ? 1 : 0);
-          program->Set("u_ambient", on ? glm::vec3(0.0f) : ToGlm(scene.ambient()));
-        }
-      };
-      as_back_sheet(true);
-      glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
-      glDepthFunc(GL_EQUAL);
-      glDepthMask(GL_FALSE);
-      draw_cloth(i, *fabric->back(), back[i]);
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      as_back_sheet(false);
+    for (size_t k = 0; k < cloth[i].size(); ++k) {
+      // Programs are shared between sheets (the same method and defines): set per draw.
+      const SheetDraw& sheet = cloth[i][k];
+      for (const gl::ShaderProgram* program : {sheet.programs.shade, sheet.programs.compute}) {
+        if (program == nullptr) continue;
+        program->Set("u_back_sheet", sheet.back ? 1 : 0);
+        program->Set("u_ambient", sheet.back ? glm::vec3(0.0f) : ToGlm(scene.ambient()));
+      }
+      sheet.programs.shade->Set("u_colour_mix", sheet.colours);
+      if (k == 1) {
+        glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
+        glDepthFunc(GL_EQUAL);
+        glDepthMask(GL_FALSE);
+      }
+      draw_cloth(i, *sheet.fabric, sheet.programs);
     }
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
   }
   if (!cloth_started) cloth_timer.Start();
   glDisable(GL_BLEND);

@@ -54,6 +54,16 @@ struct ClothPrograms {
   const gl::ShaderProgram* compute = nullptr;
 };
 
+// One draw of a cloth: a sheet of its asset (GpuFabric: the asset, a colour sheet, or
+// either's back sheet), its programs, and the matrix from its channels to RGB
+// (core/methods/colour_sheets.h SheetColours).
+struct SheetDraw {
+  const GpuFabric* fabric = nullptr;
+  ClothPrograms programs;
+  bool back = false;
+  glm::mat3 colours{1.0f};
+};
+
 class GpuRenderer {
  public:
   // Compiles the programs once; a worker keeps one renderer for every frame.

@@ -38,8 +38,7 @@ RenderedFrame RenderScene(GpuRenderer& renderer, const v1::SceneSpec& scene,
         throw Error(ErrorCode::kFailedPrecondition,
                     "object '" + object.name() + "': fabric " + key + " is not precomputed");
       }
-      uploaded = asset->second->Upload(binding.precompute().half_float());
-      if (const FabricAsset* back = asset->second->back()) uploaded->set_back(back->Upload(binding.precompute().half_float()));
+      uploaded = UploadSheets(*asset->second, binding.precompute().half_float());
     }
     fabrics[i] = uploaded.get();
   }

@@ -28,13 +28,23 @@ nlohmann::json FullJson(const google::protobuf::Message& message) {
 std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
   v1::FabricSpec canonical_fabric = WithDefaults(fabric);
   canonical_fabric.clear_name();
-  for (auto& yarn : *canonical_fabric.mutable_yarns()) yarn.clear_name();
+  const v1::PrecomputeSettings full = WithDefaults(settings);
+  // An asset of colour components holds no colour: fabrics that differ only in their
+  // yarns' albedos share it (core/methods/colour_sheets.h).
+  for (auto& yarn : *canonical_fabric.mutable_yarns()) {
+    yarn.clear_name();
+    if (full.colour_components()) {
+      yarn.clear_diffuse_albedo();
+      yarn.clear_specular_albedo();
+    }
+  }
 
   // nlohmann::json keeps object keys in a std::map: dump() is sorted.
   nlohmann::json canonical;
-  const v1::PrecomputeSettings full = WithDefaults(settings);
   const FabricMethod& method = MethodOf(full.method());
   v1::PrecomputeSettings keyed = method.KeySettings(full);
+  // Only when true: other fabrics keep their keys.
+  if (!keyed.colour_components()) keyed.clear_colour_components();
   // Resolved, and only when true: fabrics without a back sheet keep their keys.
   if (AcquiresTransmission(canonical_fabric, full)) {
     keyed.set_transmission(true);

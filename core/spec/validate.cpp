@@ -250,6 +250,11 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
   at.Range("max_lm_iterations", settings.max_lm_iterations(), 1, kMaxLmIterations);
   at.Max("indirect_bounces", settings.indirect_bounces(), kMaxIndirectBounces);
   at.Range("supersampling", settings.supersampling(), 1, kMaxSupersampling);
+  if (settings.colour_components() && settings.indirect_bounces() != 0) {
+    at.Report("colour_components",
+              Cat("needs indirect_bounces 0, not ", settings.indirect_bounces(),
+                  ": light inter-reflected between yarns is not linear in their albedos"));
+  }
   if (settings.method() == v1::FABRIC_METHOD_FACTORED) {
     at.Range("factored.rank", settings.factored().rank(), 1, kMaxFactoredRank);
   }

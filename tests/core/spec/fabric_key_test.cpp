@@ -147,6 +147,31 @@ TEST(FabricKey, YarnShadingIsPartOfTheKeyAndKajiyaKayIsUnset) {
   }
 }
 
+// With colour components the asset holds no colour (core/methods/colour_sheets.h):
+// fabrics that differ only in their yarns' albedos share one key, and only then.
+TEST(FabricKey, ColourComponentsLeaveTheAlbedosOut) {
+  const auto fabric = [](const char* diffuse, const char* specular) {
+    return Fabric((std::string(R"({"woven": {}, "yarns": [{"diffuse_albedo": )") + diffuse +
+                   R"(, "specular_albedo": )" + specular + R"(}, {}]})")
+                      .c_str());
+  };
+  const auto red = fabric(R"({"r": 0.8, "g": 0.1, "b": 0.1})", R"({"r": 0.1, "g": 0.1, "b": 0.1})");
+  const auto blue = fabric(R"({"r": 0.1, "g": 0.1, "b": 0.8})", R"({"r": 0.02, "g": 0.02, "b": 0.05})");
+  const auto components = Settings(R"({"colour_components": true, "indirect_bounces": 0})");
+  const auto direct = Settings(R"({"indirect_bounces": 0})");
+  EXPECT_EQ(FabricKey(red, components), FabricKey(blue, components));
+  EXPECT_EQ(CanonicalFabricJson(red, components).find("albedo"), std::string::npos);
+  EXPECT_NE(FabricKey(red, direct), FabricKey(blue, direct));
+  EXPECT_NE(FabricKey(red, components), FabricKey(red, direct));
+  // Explicitly false is unset: the keys of fabrics without components stay as they were.
+  EXPECT_EQ(FabricKey(red, Settings(R"({"colour_components": false, "indirect_bounces": 0})")),
+            FabricKey(red, direct));
+  // Everything but the albedos still counts.
+  auto rougher = blue;
+  rougher.mutable_yarns(0)->set_roughness(0.2f);
+  EXPECT_NE(FabricKey(rougher, components), FabricKey(red, components));
+}
+
 TEST(FabricKey, AssetFormatVersionIsPartOfTheCanonicalForm) {
   EXPECT_NE(CanonicalFabricJson(Fabric(R"({"knit": {}})"), {}).find("\"asset_format_version\":" +
                                                                      std::to_string(kAssetFormatVersion)),
