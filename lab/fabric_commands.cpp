@@ -178,6 +178,11 @@ LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags) {
               std::printf("built %s from %s in %.2f s (%zu levels)\n", std::string(method.name()).c_str(),
                           options->samples.c_str(), asset->build_seconds(), figures.at("levels").size());
               PrintLevels(figures);
+              if (asset->colour_channels()) {
+                std::printf("colour components in %zu sheets: the key leaves the yarns' albedos out, so a fabric that "
+                            "differs only in them renders from this asset\n",
+                            asset->colour_sheets().size() + 1);
+              }
             }
             return 0;
           }};
@@ -222,13 +227,19 @@ LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags) {
                            {"rays", stats.acquisition.rays},
                            {"rays_per_second", stats.acquisition.rays_per_second()},
                            {"mean_alpha", stats.mean_alpha}}},
-                         {"build", figures}});
+                         {"build", figures},
+                         {"colour_sheets", asset->colour_channels() ? asset->colour_sheets().size() + 1 : 0}});
             } else {
               std::printf("wrote %s (%.1f KB): acquisition %.1f s, %s %.1f s (%zu levels), total %.1f s\nkey %s\n",
                           options->out.c_str(), static_cast<double>(asset_bytes) / 1024.0, stats.acquisition.seconds,
                           std::string(asset->method().name()).c_str(), asset->build_seconds(),
                           figures.at("levels").size(), total_seconds, key.c_str());
               PrintLevels(figures);
+              if (asset->colour_channels()) {
+                std::printf("colour components in %zu sheets: the key leaves the yarns' albedos out, so a fabric that "
+                            "differs only in them renders from this asset\n",
+                            asset->colour_sheets().size() + 1);
+              }
             }
             return 0;
           }};

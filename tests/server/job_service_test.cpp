@@ -270,6 +270,59 @@ TEST_F(ServiceTest, AMicroflakeYarnPrecomputesThroughTheServiceUnderItsOwnKey) {
   }
 }
 
+// Colour components (issue 24): a render of a fabric that differs from a cached one
+// only in its yarn's albedos needs no precompute. Its frame is the core render of
+// the edited scene from the cached asset, and not the original's frame.
+TEST_F(ServiceTest, AColourEditRendersFromTheCachedAssetWithoutAPrecompute) {
+  StartServer();
+  client::JobClient client = Client();
+  const auto scene_in = [](float red, float blue) {
+    v1::SceneSpec scene = TinyScene();
+    v1::FabricBinding& binding = *scene.mutable_objects(0)->mutable_fabric();
+    binding.mutable_precompute()->set_colour_components(true);
+    v1::Rgb& albedo = *binding.mutable_fabric()->add_yarns()->mutable_diffuse_albedo();
+    albedo.set_r(red);
+    albedo.set_g(0.3f);
+    albedo.set_b(blue);
+    return scene;
+  };
+  const auto render = [&](const v1::SceneSpec& scene, int expected_dependencies) {
+    const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
+    EXPECT_EQ(submitted.dependencies_size(), expected_dependencies);
+    const v1::Job done = WaitUntilEnded(client, submitted.job().id());
+    EXPECT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+    return ReadImageBytes(client.Download(done.result_artifacts(0)), "served.exr");
+  };
+  const v1::SceneSpec red = scene_in(0.8f, 0.1f), blue = scene_in(0.1f, 0.8f);
+  const Image red_frame = render(red, 1);
+  const Image blue_frame = render(blue, 0);  // the red one's asset
+  ASSERT_EQ(client.ListFabrics().fabrics_size(), 1);
+
+  const v1::FabricBinding& binding = blue.objects(0).fabric();
+  const std::string key = FabricKey(binding.fabric(), binding.precompute());
+  const auto asset = data_dir_ / "asset-colour-components";
+  client.DownloadFabric(key, asset);
+  const std::unique_ptr<FabricAsset> fabric = ReadAnyFabricAsset(asset);
+  ASSERT_TRUE(fabric->colour_channels().has_value());
+  const auto context = gl::EglContext::Create();
+  GpuRenderer renderer(*context);
+  const v1::SceneSpec full = WithDefaults(blue);
+  WriteImage(RenderScene(renderer, full, BuildSceneGeometry(full, FileMeshResolver(".")), {{key, fabric.get()}}).image,
+             data_dir_ / "core.exr");
+  const Image expected = ReadImage(data_dir_ / "core.exr");
+  ASSERT_EQ(blue_frame.pixels.size(), expected.pixels.size());
+  float max_difference = 0.0f;
+  double red_sum = 0, blue_sum = 0, red_frame_red = 0;
+  for (size_t i = 0; i < blue_frame.pixels.size(); ++i) {
+    max_difference = std::max(max_difference, std::abs(blue_frame.pixels[i] - expected.pixels[i]));
+    if (i % blue_frame.channels == 0) red_sum += blue_frame.pixels[i], red_frame_red += red_frame.pixels[i];
+    if (i % blue_frame.channels == 2) blue_sum += blue_frame.pixels[i];
+  }
+  EXPECT_EQ(max_difference, 0.0f) << "served frame differs from the core render";
+  EXPECT_GT(blue_sum, 2.0 * red_sum);
+  EXPECT_GT(red_frame_red, 2.0 * red_sum);
+}
+
 // For every fabric method: the worker precomputes the method's asset, and the served
 // frame equals the core render of the same scene from that cached asset.
 TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameSceneWithEveryMethod) {
