@@ -111,8 +111,11 @@ void FabricAsset::WriteSides(const v1::PrecomputeSettings& settings, const std::
 
 std::unique_ptr<GpuFabric> UploadSheets(const FabricAsset& asset, bool half) {
   std::unique_ptr<GpuFabric> uploaded = asset.Upload(half);
-  if (asset.back() != nullptr) uploaded->back_ = asset.back()->Upload(half);
   uploaded->colour_channels_ = asset.colour_channels();
+  if (asset.back() != nullptr) {
+    uploaded->back_ = asset.back()->Upload(half);
+    uploaded->back_->colour_channels_ = asset.colour_channels();  // the same components, lit from behind
+  }
   for (const auto& sheet : asset.colour_sheets()) uploaded->colour_sheets_.push_back(UploadSheets(*sheet, half));
   return uploaded;
 }

@@ -158,6 +158,7 @@ gl::ShaderProgram& GpuRenderer::ClothProgramFor(const GpuFabric& fabric, const v
   std::string defines = fabric.ShaderDefines() + PassDefines(pass);
   if (settings.level_mode() == v1::LEVEL_MODE_ANISOTROPIC) defines += "#define LOOM_ANISOTROPIC_LEVELS\n";
   if (settings.texel_filter() == v1::TEXEL_FILTER_BILINEAR) defines += "#define LOOM_BILINEAR_TEXELS\n";
+  if (fabric.colour_channels()) defines += "#define LOOM_COLOUR_SHEET\n";
   const std::string key = std::string(method.cloth_shader()) + "\n" + defines;
   auto found = cloth_programs_.find(key);
   if (found == cloth_programs_.end()) {
@@ -306,8 +307,8 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
         if (program == nullptr) continue;
         program->Set("u_back_sheet", sheet.back ? 1 : 0);
         program->Set("u_ambient", sheet.back ? glm::vec3(0.0f) : ToGlm(scene.ambient()));
+        program->Set("u_colour_mix", sheet.colours);
       }
-      sheet.programs.shade->Set("u_colour_mix", sheet.colours);
       if (k == 1) {
         glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
         glDepthFunc(GL_EQUAL);

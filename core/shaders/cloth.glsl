@@ -164,9 +164,6 @@ void main() {
 #else
 
 layout(location = 0) out vec4 o_radiance;
-// The sheet's channels to RGB (GpuRenderer SheetDraw::colours): identity, or for a
-// sheet of colour components the albedos of the yarns they belong to.
-uniform mat3 u_colour_mix;
 
 #ifdef LOOM_CLOTH_COMPOSITE
 const int kGbufferLayers = 2;  // ClothGbuffer::kLayers
@@ -213,7 +210,7 @@ void main() {
   // A hole writes no depth, so cloth drawn later behind it still shows.
   if (shaded.a < kMinCoverage) discard;
   // Premultiplied: blended over what lies behind (GpuRenderer draws cloth last).
-  o_radiance = vec4(u_colour_mix * shaded.rgb * shaded.a, shaded.a);
+  o_radiance = vec4(shaded.rgb * shaded.a, shaded.a);
 }
 
 #endif  // LOOM_CLOTH_GBUFFER

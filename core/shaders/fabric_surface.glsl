@@ -27,6 +27,19 @@ uniform bool u_back_sheet;               // a back sheet shades the lights behin
 uniform int u_fabric_light_side;         // the light grid is k_l×k_l
 #endif
 
+// A method's values in RGB. A sheet of colour components (LOOM_COLOUR_SHEET,
+// core/methods/colour_sheets.h) holds components, and u_colour_mix (GpuRenderer
+// SheetDraw::colours: the albedos of the yarns they belong to) takes them to RGB. A
+// method applies it to each light's and the ambient's share before their colour
+// multiplies it: a coloured light times the sum of components is not the sum of the
+// components' colours times the light.
+#ifdef LOOM_COLOUR_SHEET
+uniform mat3 u_colour_mix;
+vec3 SheetRgb(vec3 channels) { return u_colour_mix * channels; }
+#else
+vec3 SheetRgb(vec3 channels) { return channels; }
+#endif
+
 // The mesh's frame at a fragment as columns (tangent along +u, bitangent, normal),
 // turned towards the side it is seen from: cloth is lit and seen from either side,
 // and seen from behind, a surface turns its normal and with it the bitangent.

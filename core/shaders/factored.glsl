@@ -16,5 +16,6 @@ vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
     float shape = FactoredShape(a, texel, level, fragment.light_grid[i]);
     lit += fragment.light_irradiance[i] * fragment.light_weight[i] * max(shape, 0.0);
   }
-  return vec4(views.rgb * (fragment.ambient + lit / kPi), views.a);
+  // The shape is one number for every channel: mapping the gain maps the whole.
+  return vec4(SheetRgb(views.rgb) * (fragment.ambient + lit / kPi), views.a);
 }

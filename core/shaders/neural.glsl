@@ -140,7 +140,7 @@ vec3 DecodeFabric(vec2 tile, FabricFootprint f, FabricFragment fragment, vec3 ga
 #ifdef LOOM_NEURAL_BASE
     y += shape[l];
 #endif
-    radiance += fragment.light_irradiance[l] * fragment.light_weight[l] * max(y, vec3(0.0));
+    radiance += fragment.light_irradiance[l] * fragment.light_weight[l] * SheetRgb(gain * max(y, vec3(0.0)));
   }
-  return gain * (fragment.ambient + radiance / kPi);
+  return fragment.ambient * SheetRgb(gain) + radiance / kPi;
 }

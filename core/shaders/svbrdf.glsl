@@ -47,11 +47,11 @@ vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
   FabricTexel t = FetchFabricTexel(texel, level, fragment);
   vec3 v = ToTexelFrame(t, fragment.view);
   // Ambient: a uniform environment over the diffuse part, π·ρ, through T (lobes left out).
-  vec3 radiance = fragment.ambient * kPi * t.brdf.rho;
+  vec3 radiance = fragment.ambient * SheetRgb(t.lut.rgb * kPi * t.brdf.rho);
   for (int i = 0; i < u_light_count; ++i) {
     vec3 l = ToTexelFrame(t, fragment.light_direction[i]);
-    radiance += fragment.light_irradiance[i] * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v);
+    radiance += fragment.light_irradiance[i] * SheetRgb(t.lut.rgb * EvaluateLafortune(t.brdf, u_fabric_lobes, l, v));
   }
-  return vec4(t.lut.rgb * radiance, t.lut.a);
+  return vec4(radiance, t.lut.a);
 }
 

@@ -22,7 +22,7 @@ vec3 FetchTabulated(ivec2 texel, int level, ivec2 view, vec2 light_grid) {
 
 vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
   vec4 views = FetchFabricView(texel, level, fragment.view_grid, fragment.beyond_ring);
-  vec3 radiance = fragment.ambient * views.rgb;
+  vec3 radiance = fragment.ambient * SheetRgb(views.rgb);
   ivec2 v0 = ivec2(floor(fragment.view_grid));
   ivec2 v1 = min(v0 + 1, ivec2(u_fabric_view_side - 1));
   vec2 w = fragment.view_grid - vec2(v0);
@@ -30,7 +30,7 @@ vec4 ShadeFabricTexel(ivec2 texel, int level, FabricFragment fragment) {
     vec2 g = fragment.light_grid[i];
     vec3 bottom = mix(FetchTabulated(texel, level, v0, g), FetchTabulated(texel, level, ivec2(v1.x, v0.y), g), w.x);
     vec3 top = mix(FetchTabulated(texel, level, ivec2(v0.x, v1.y), g), FetchTabulated(texel, level, v1, g), w.x);
-    radiance += fragment.light_irradiance[i] * fragment.light_weight[i] * mix(bottom, top, w.y);
+    radiance += fragment.light_irradiance[i] * fragment.light_weight[i] * SheetRgb(mix(bottom, top, w.y));
   }
   return vec4(radiance, views.a);
 }

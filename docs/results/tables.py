@@ -3,6 +3,7 @@
 usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CSV...]] | tables.py seeds SEEDS_CSV SWEEP_CSV
        | tables.py variations DISTANCE FABRIC_KIND CSV... | tables.py change CONFIGURATION BASELINE SWEEP_CSV
        | tables.py methods METHODS_CSV (bench/sweep_methods.json: every method against svbrdf's defaults)
+       | tables.py colours COLOURS_CSV (bench/sweep_colours.json: colourways of one fabric, front- and back-lit)
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, re, statistics, sys
@@ -243,9 +244,41 @@ def methods(path):
             med([num(by[(c, s)]["asset_bytes"]) / 1e6 for s in mine], "%.2f"),
             med([num(by[(c, s)]["frame_ms"]) for s in mine], "%.0f")))
 
+# Per configuration of bench/sweep_colours.json: PSNR front- and back-lit, per colourway,
+# and the precompute seconds of each colourway's asset: a configuration with colour
+# components loads the first colourway's asset for the others, so it reports the same
+# seconds (its timing file) for all three.
+def colours(path):
+    table = rows(path)
+    order = []
+    for r in table:
+        if r["configuration"] not in order:
+            order.append(r["configuration"])
+    fabrics = []
+    for r in table:
+        if r["fabric"] not in fabrics:
+            fabrics.append(r["fabric"])
+    print("| configuration | scenes | PSNR dB median: all | front-lit | back-lit | " +
+          " | ".join(fabrics) + " | precompute s per colourway | asset MB | frame ms median |")
+    print("|---|---|---|---|---|" + "---|" * len(fabrics) + "---|---|---|")
+    for c in order:
+        mine = [r for r in table if r["configuration"] == c]
+        psnr = lambda keep: med([num(r["psnr_db"]) for r in mine if keep(r)], "%.2f")
+        seconds = []
+        for f in fabrics:
+            values = sorted({num(r["precompute_seconds"]) for r in mine if r["fabric"] == f})
+            seconds.append("/".join("%.0f" % v for v in values))
+        print("| %s | %d | %s | %s | %s | %s | %s | %s | %s |" % (
+            c, len(mine), psnr(lambda r: True), psnr(lambda r: "backlit" not in r["scene"]),
+            psnr(lambda r: "backlit" in r["scene"]),
+            " | ".join(psnr(lambda r, f=f: r["fabric"] == f) for f in fabrics), ", ".join(seconds),
+            med([num(r["asset_bytes"]) / 1e6 for r in mine], "%.2f"), med([num(r["frame_ms"]) for r in mine], "%.0f")))
+
 if __name__ == "__main__":
     if sys.argv[1] == "methods":
         methods(sys.argv[2])
+    elif sys.argv[1] == "colours":
+        colours(sys.argv[2])
     elif sys.argv[1] == "sweep":
         sweep(sys.argv[2])
     elif sys.argv[1] == "seeds":

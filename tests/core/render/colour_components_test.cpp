@@ -24,8 +24,9 @@
 namespace loom {
 namespace {
 
-// A two-colour microflake twill lit from above and from behind, with ambient light:
-// every term the renderer adds (lights, back sheet, ambient) goes through the colours.
+// A two-colour microflake twill lit from above and from behind, with ambient light,
+// all coloured: every term the renderer adds (lights, back sheet, ambient) goes
+// through the yarns' colours before the light's colour multiplies it.
 v1::SceneSpec TwillScene(const char* warp, const char* weft, bool colour_components, v1::ShadingPass pass) {
   v1::SceneSpec scene = ParseSpecJson<v1::SceneSpec>(std::string(R"({"objects": [
       {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "transform": {"scale": {"x": 2, "y": 2, "z": 1}},
@@ -40,9 +41,9 @@ v1::SceneSpec TwillScene(const char* warp, const char* weft, bool colour_compone
                   "repeat_u": 6, "repeat_v": 6}}],
     "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 1.6, "position": {"x": 0, "y": -2, "z": 4},
                "target": {"x": 0, "y": 0, "z": 0}, "up": {"x": 0, "y": 1, "z": 0}, "near": 0.1, "far": 10},
-    "ambient": {"r": 0.05, "g": 0.05, "b": 0.05},
-    "lights": [{"direction": {"x": -0.3, "y": -0.4, "z": 1}, "intensity": 1.5},
-               {"direction": {"x": 0.3, "y": 0.2, "z": -1}, "intensity": 1}],
+    "ambient": {"r": 0.04, "g": 0.05, "b": 0.08},
+    "lights": [{"direction": {"x": -0.3, "y": -0.4, "z": 1}, "intensity": 1.5, "colour": {"r": 1, "g": 0.8, "b": 0.5}},
+               {"direction": {"x": 0.3, "y": 0.2, "z": -1}, "intensity": 1, "colour": {"r": 0.6, "g": 0.8, "b": 1}}],
     "render": {"width": 48, "height": 48, "msaa_samples": 4}})",
                                                      "scene");
   v1::FabricBinding& binding = *scene.mutable_objects(0)->mutable_fabric();
