@@ -6,12 +6,16 @@
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
+#include "core/fabric/yarn_section.h"
+#include "core/image/image.h"
 #include "core/methods/fabric_method.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/scene/obj_writer.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
+#include "core/spec/limits.h"
 #include "core/spec/spec_json.h"
+#include "core/spec/validate.h"
 #include "core/util/progress_bar.h"
 #include "core/util/stopwatch.h"
 #include "lab/lab_command.h"
@@ -93,6 +97,59 @@ LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags) {
               std::printf("wrote %s: %zu triangles a tile × %d×%d tiles, %zu yarn curves (built in %.3f s)\n",
                           options->obj.c_str(), tile.mesh.triangle_count(), options->tiles[0], options->tiles[1],
                           tile.curves.size(), build_seconds);
+            }
+            return 0;
+          }};
+}
+
+LabCommand AddYarnSectionCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string fabric, out;
+    int yarn = 0;
+    int resolution = 64;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "yarn-section", "Write a yarn's cross-section fibre density (plies, fuzz; docs/lumislice.md) as an image");
+  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
+  command->add_option("--yarn", options->yarn, "Index into the fabric's yarns")->check(CLI::Range(0, kMaxYarns - 1));
+  command->add_option("--resolution", options->resolution, "Cells a side")->check(CLI::Range(4, 1024));
+  command->add_option("--out,-o", options->out, "Output image: .exr the density, .png it over its peak")->required();
+  return {command, [&flags, options] {
+            const v1::FabricSpec fabric = WithDefaults(LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric"));
+            ThrowIfAny(Validate(fabric));
+            if (options->yarn >= fabric.yarns_size()) {
+              throw Error(ErrorCode::kInvalidArgument, "--yarn " + std::to_string(options->yarn) + ": the fabric has " +
+                                                           std::to_string(fabric.yarns_size()) + " yarns");
+            }
+            const YarnSection section = MakeYarnSection(fabric.yarns(options->yarn));
+            const int side = options->resolution;
+            const std::vector<float> density = SectionDensityGrid(section, side);
+            const bool png = FormatFromPath(options->out) == ImageFileFormat::kPng;
+            const float peak = 1.0f - kFibreDensityEpsilon;
+            Image image(side, side, 3);
+            double fibres = 0.0;
+            for (int y = 0; y < side; ++y) {
+              for (int x = 0; x < side; ++x) {
+                const float value = density[static_cast<size_t>(side - 1 - y) * side + x];  // +y up
+                for (int c = 0; c < 3; ++c) image.at(x, y, c) = png ? value / peak : value;
+                fibres += value;
+              }
+            }
+            WriteImage(image, options->out);
+            const double cell = 2.0 * section.extent() / side;
+            if (flags.json) {
+              PrintJson({{"out", options->out},
+                         {"plies", section.plies},
+                         {"ply_radius", section.ply_radius},
+                         {"ply_offset", section.ply_offset},
+                         {"extent", section.extent()},
+                         {"fibre_area", fibres * cell * cell}});
+            } else {
+              std::printf("wrote %s: %u plies of %.3f yarn radii at %.3f from the centre, %.2f yarn radii across; "
+                          "fibre area %.3f (yarn radii squared)\n",
+                          options->out.c_str(), section.plies, section.ply_radius, section.ply_offset,
+                          2.0 * section.extent(), fibres * cell * cell);
             }
             return 0;
           }};

@@ -23,6 +23,7 @@ int Main(int argc, char** argv) {
       AddValidateCommand(app, flags),
       AddKeyCommand(app, flags),
       AddGeometryCommand(app, flags),
+      AddYarnSectionCommand(app, flags),
       AddAcquireCommand(app, flags),
       AddFitCommand(app, flags),
       AddPrecomputeCommand(app, flags),
