@@ -12,8 +12,10 @@
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
+#include "core/acquire/volume_radiance.h"
 #include "core/acquire/yarn_radiance.h"
 #include "core/acquire/yarn_shading.h"
+#include "core/fabric/yarn_volume.h"
 #include "core/spec/defaults.h"
 #include "core/spec/limits.h"
 #include "core/spec/validate.h"
@@ -240,6 +242,25 @@ std::vector<float> ViewDepthHeights(const PeriodicScene& scene, const RadianceSa
   return heights;
 }
 
+// The volumetric yarn along one sub-sample's ray (core/acquire/volume_radiance.h): adds
+// each of the batch's lights' radiance, premultiplied by the ray's opacity, to
+// scratch.sum; returns the opacity.
+float AcquireVolumeRay(const TexelPass& pass, const RadianceSamples& samples, glm::vec3 start, glm::vec3 v, float jitter,
+                       TexelScratch& scratch, uint64_t& rays) {
+  const YarnVolume& volume = *pass.tile.volume;
+  const float transmittance = MarchVolume(volume, start, -v, jitter, [&](const VolumeStep& step) {
+    const YarnMaterial& material = pass.tile.materials[step.sample.material];
+    for (size_t light = 0; light < pass.light_count; ++light) {
+      const glm::vec3 l = samples.light_directions[pass.first_light + light];
+      const glm::vec3 f = FibreScattering(material, step.sample.fibre, l, v);
+      if (f == glm::vec3(0.0f)) continue;
+      ++rays;
+      scratch.sum[light] += step.weight * f * VolumeTransmittance(volume, step.position, l, jitter);
+    }
+  });
+  return 1.0f - transmittance;
+}
+
 // One texel, every view, the batch's lights; returns the texel's normal sum.
 glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t texel, TexelScratch& scratch,
                        uint64_t& rays, uint64_t& replaced) {
@@ -251,14 +272,25 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
   for (size_t view = 0; view < samples.view_count(); ++view) {
     const glm::vec3 v = samples.view_directions[view];
     std::fill(scratch.sum.begin(), scratch.sum.end(), glm::vec3(0.0f));
-    uint32_t covered = 0;
+    float covered = 0.0f;  // rays that met yarn; for volumetric yarn, their opacities
     for (uint32_t j = 0; j < s; ++j) {
       for (uint32_t i = 0; i < s; ++i) {
         const glm::vec2 xy = SubSample(samples.resolution, s, pass.seed, texel, i, j);
+        const glm::vec3 start = RayStart(xy, samples.view_heights[view], v, pass.top);
         ++rays;
-        const auto hit = pass.scene.Intersect(RayStart(xy, samples.view_heights[view], v, pass.top), -v);
+        const auto hit = pass.scene.Intersect(start, -v);
+        if (pass.tile.volume) {
+          // The tubes the volume is centred on give the texel's normal.
+          if (hit) {
+            const SurfacePoint point = MakeSurfacePoint(pass.tile, *hit, -v);
+            normal_sum += point.front ? point.normal : -point.normal;
+          }
+          RandomStream jitter(pass.seed, RandomStream::kVolumeJitter, (texel * samples.view_count() + view) * s * s + j * s + i);
+          covered += AcquireVolumeRay(pass, samples, start, v, jitter.Uniform(), scratch, rays);
+          continue;
+        }
         if (!hit) continue;
-        ++covered;
+        covered += 1.0f;
         const SurfacePoint point = MakeSurfacePoint(pass.tile, *hit, -v);
         normal_sum += point.front ? point.normal : -point.normal;
         if (!point.front) continue;  // the inside of a yarn: opaque and black
@@ -273,9 +305,9 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
         }
       }
     }
-    samples.alpha[samples.AlphaIndex(texel, view)] = static_cast<float>(covered) / static_cast<float>(s * s);
+    samples.alpha[samples.AlphaIndex(texel, view)] = covered / static_cast<float>(s * s);
     for (size_t light = 0; light < pass.light_count; ++light) {
-      const glm::vec3 mean = covered > 0 ? scratch.sum[light] / static_cast<float>(covered) : glm::vec3(0.0f);
+      const glm::vec3 mean = covered > 0.0f ? scratch.sum[light] / covered : glm::vec3(0.0f);
       samples.radiance[samples.RadianceIndex(texel, view, pass.first_light + light)] = Finite(mean, replaced);
     }
   }
@@ -301,7 +333,8 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   const size_t views = samples.view_count();
   const size_t lights = samples.light_count();
   const uint32_t s = settings.supersampling();
-  const uint32_t bounces = settings.indirect_bounces();
+  // Volumetric yarn has no inter-reflection (core/acquire/volume_radiance.h).
+  const uint32_t bounces = tile.volume ? 0 : settings.indirect_bounces();
   const size_t vertices = tile.mesh.positions.size();
 
   // Batches of lights whose indirect irradiance (3 arrays while it is computed)

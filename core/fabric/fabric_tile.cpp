@@ -14,6 +14,7 @@
 #include "core/fabric/tube_mesh.h"
 #include "core/fabric/woven_tile.h"
 #include "core/fabric/yarn_material.h"
+#include "core/fabric/yarn_volume.h"
 #include "core/spec/defaults.h"
 #include "core/spec/validate.h"
 #include "core/util/error.h"
@@ -30,19 +31,20 @@ constexpr int kKnitSamplesPerSegment = 8;
 constexpr int kWovenSamplesPerCrossing = 10;
 constexpr int kRingVertices = 16;
 
-// Plies and fuzz are part of the schema (DESIGN.md) and of the cache key, but the
-// geometry does not model them yet: every yarn is one round tube, its twist only
+// Plies and fuzz are part of the schema (DESIGN.md) and of the cache key; knit yarns
+// with them are a volume of fibres, but woven yarns stay one round tube, their twist only
 // tilting the fibre highlight. Said once per yarn (name, plies, fuzz) and process,
 // so a sweep that builds the same tile for every reference row logs it once.
 void WarnOfUnmodelledYarnFields(const v1::FabricSpec& fabric) {
+  if (fabric.has_knit()) return;
   static std::mutex mutex;
   static std::set<std::tuple<std::string, uint32_t, float>> warned;
   for (const v1::YarnSpec& yarn : fabric.yarns()) {
     if (yarn.plies() <= 1 && yarn.fuzz() <= 0.0f) continue;
     const std::lock_guard lock(mutex);
     if (!warned.emplace(yarn.name(), yarn.plies(), yarn.fuzz()).second) continue;
-    spdlog::warn("yarn '{}': plies ({}) and fuzz ({}) are not modelled yet; the yarn is one round tube whose twist "
-                 "tilts its fibre highlight",
+    spdlog::warn("yarn '{}': plies ({}) and fuzz ({}) of woven yarns are not modelled yet; the yarn is one round "
+                 "tube whose twist tilts its fibre highlight",
                  yarn.name(), yarn.plies(), yarn.fuzz());
   }
 }
@@ -70,6 +72,12 @@ FabricTile BuildFabricTile(const v1::FabricSpec& spec) {
                                                [](const glm::vec3& a, const glm::vec3& b) { return a.z < b.z; });
   tile.z_min = low->z;
   tile.z_max = high->z;
+  if (HasYarnVolume(fabric)) {
+    auto volume = std::make_shared<const YarnVolume>(yarns, fabric);
+    tile.z_min = std::min(tile.z_min, volume->z_min());
+    tile.z_max = std::max(tile.z_max, volume->z_max());
+    tile.volume = std::move(volume);
+  }
   return tile;
 }
 

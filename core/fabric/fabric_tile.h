@@ -6,12 +6,15 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <vector>
 
 #include "core/scene/triangle_mesh.h"
 #include "loom/v1/fabric.pb.h"
 
 namespace loom {
+
+class YarnVolume;
 
 // A yarn's centre line: a closed or open polyline densely sampled from cardinal
 // splines through key points. Points may leave [0,1)²: a yarn crossing the tile's
@@ -46,9 +49,14 @@ struct FabricTile {
   // Per triangle: index into `materials`.
   std::vector<uint32_t> triangle_material;
   std::vector<YarnMaterial> materials;
-  // z range of the geometry (the tile's bounding slab).
+  // z range of the geometry (the tile's bounding slab; the volume's, when there is one).
   float z_min = 0.0f;
   float z_max = 0.0f;
+  // A knit whose yarns have plies or fuzz: the yarns as a volume of fibres
+  // (core/fabric/yarn_volume.h), which is what rays meet; the mesh stays the tubes
+  // the volume's yarns are centred on (their surfaces give texel normals). Null: the
+  // yarns are the mesh's opaque tubes.
+  std::shared_ptr<const YarnVolume> volume;
 };
 
 // Throws Error(kInvalidArgument) if the spec does not validate.

@@ -13,9 +13,11 @@
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
+#include "core/acquire/volume_radiance.h"
 #include "core/acquire/yarn_radiance.h"
 #include "core/acquire/yarn_shading.h"
 #include "core/fabric/fabric_tile.h"
+#include "core/fabric/yarn_volume.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_light.h"
 #include "core/spec/defaults.h"
@@ -35,6 +37,8 @@ constexpr float kShellTopOffset = 1e-4f;
 // Surfaces a camera ray may pass through (holes, then what lies behind) before it
 // counts as reaching the background.
 constexpr int kMaxSurfaceCrossings = 8;
+// A camera ray whose throughput through volumetric yarn falls below this ends there.
+constexpr float kMinThroughput = 1e-4f;
 // Walks through the repeated tile are continued exactly, so `reach` only sizes the
 // instance grid against the number of Embree calls per ray (periodic_scene.h).
 constexpr float kTileReach = 4.0f;
@@ -237,7 +241,8 @@ std::unique_ptr<ClothFabric> MakeClothFabric(const v1::FabricBinding& binding, c
   const v1::PrecomputeSettings settings =
       WithDefaults(binding.has_precompute() ? binding.precompute() : v1::PrecomputeSettings());
   const std::optional<SurfaceFrame> frame = ConstantFrame(mesh, cloth->repeat);
-  if (settings.indirect_bounces() == 0 || !frame || cloth->directional_count == 0) return cloth;
+  // Volumetric yarn has no inter-reflection (core/acquire/volume_radiance.h).
+  if (settings.indirect_bounces() == 0 || !frame || cloth->directional_count == 0 || cloth->tile.volume) return cloth;
   std::vector<glm::vec3> directions(2 * cloth->directional_count);
   for (size_t i = 0; i < lights.size(); ++i) {
     if (cloth->directional_index[i] < 0) continue;
@@ -277,9 +282,12 @@ class Tracer {
       : scene_(scene), meshes_(meshes), macro_(macro), cloth_(cloth), lights_(lights), epsilon_(epsilon) {}
 
   // Radiance arriving at `origin` along −direction (unit); tfar from the camera's clip range.
-  glm::vec3 Radiance(glm::vec3 origin, glm::vec3 direction, float tfar, uint64_t& rays,
+  // `jitter` ∈ [0, 1) offsets the steps of marches through volumetric yarn.
+  glm::vec3 Radiance(glm::vec3 origin, glm::vec3 direction, float tfar, float jitter, uint64_t& rays,
                      std::vector<glm::vec3>& scratch) const {
     float tnear = 0.0f;
+    glm::vec3 radiance(0.0f);
+    float throughput = 1.0f;
     for (int crossing = 0; crossing < kMaxSurfaceCrossings; ++crossing) {
       ++rays;
       const std::optional<MacroHit> hit = macro_.Intersect(origin, direction, tnear, tfar);
@@ -288,39 +296,49 @@ class Tracer {
       const ClothFabric* cloth = cloth_[hit->mesh].get();
       const MacroSurface surface =
           MakeMacroSurface(mesh.mesh, *hit, origin, direction, cloth ? cloth->repeat : glm::vec2(1.0f));
-      if (!cloth) return PlainRadiance(*mesh.object, surface, rays);
-      if (const std::optional<glm::vec3> yarn = ClothRadiance(*cloth, surface, direction, rays, scratch)) return *yarn;
-      // Through a hole: on to what lies behind the surface.
+      if (!cloth) return radiance + throughput * PlainRadiance(*mesh.object, surface, jitter, rays);
+      const ClothLight yarn = ClothRadiance(*cloth, surface, direction, jitter, rays, scratch);
+      radiance += throughput * yarn.radiance;
+      throughput *= yarn.transmittance;
+      if (throughput < kMinThroughput) return radiance;
+      // Through a hole or the yarn volume: on to what lies behind the surface.
       tnear = hit->t + epsilon_;
     }
-    return ToGlm(scene_.background());
+    return radiance + throughput * ToGlm(scene_.background());
   }
 
  private:
-  // Whether a directional light's shadow ray from `origin` is blocked at the macro
-  // scale. Plain objects block it; cloth blocks it where the light's ray through its
-  // shell meets yarn, so holes cast light, not shadow.
-  bool MacroShadowed(const SceneLight& light, glm::vec3 origin, uint64_t& rays) const {
-    if (!light.directional || !light.casts_shadows) return false;
+  // What reaches `origin` of a directional light at the macro scale (1 unblocked, 0
+  // in shadow). Plain objects block it; cloth blocks it where the light's ray through
+  // its shell meets tube yarn, so holes cast light, not shadow; volumetric yarn passes
+  // its transmittance.
+  float MacroTransmittance(const SceneLight& light, glm::vec3 origin, float jitter, uint64_t& rays) const {
+    if (!light.directional || !light.casts_shadows) return 1.0f;
     float tnear = epsilon_;
+    float transmittance = 1.0f;
     for (int crossing = 0; crossing < kMaxSurfaceCrossings; ++crossing) {
       ++rays;
       const std::optional<MacroHit> hit = macro_.Intersect(origin, light.vector, tnear, kInfinity);
-      if (!hit) return false;
+      if (!hit) return transmittance;
       const ClothFabric* cloth = cloth_[hit->mesh].get();
-      if (!cloth) return true;
+      if (!cloth) return 0.0f;
       const MacroSurface surface = MakeMacroSurface(meshes_[hit->mesh].mesh, *hit, origin, light.vector, cloth->repeat);
       if (const std::optional<ShellRay> ray = EnterShell(*cloth, surface, light.vector)) {
         ++rays;
-        if (cloth->scene->Occluded(ray->entry, ray->direction)) return true;
+        if (cloth->tile.volume) {
+          transmittance *= VolumeTransmittance(*cloth->tile.volume, ray->entry, ray->direction, jitter);
+          if (transmittance <= 0.0f) return 0.0f;
+        } else if (cloth->scene->Occluded(ray->entry, ray->direction)) {
+          return 0.0f;
+        }
       }
       tnear = hit->t + epsilon_;
     }
-    return false;
+    return transmittance;
   }
 
   // Lambertian in the base colour, as opaque.frag.
-  glm::vec3 PlainRadiance(const v1::SceneObject& object, const MacroSurface& surface, uint64_t& rays) const {
+  glm::vec3 PlainRadiance(const v1::SceneObject& object, const MacroSurface& surface, float jitter, uint64_t& rays) const {
     const glm::vec3 albedo = ToGlm(object.base_colour());
     glm::vec3 radiance = ToGlm(scene_.ambient()) * albedo;
     const glm::vec3 shadow_origin = surface.position + surface.geometric_normal * epsilon_;
@@ -328,26 +346,30 @@ class Tracer {
       glm::vec3 irradiance;
       const glm::vec3 l = light.Direction(surface.position, irradiance);
       const float cosine = glm::dot(surface.frame.n, l);
-      if (cosine <= 0.0f || MacroShadowed(light, shadow_origin, rays)) continue;
-      radiance += albedo / kPi * irradiance * cosine;
+      if (cosine <= 0.0f) continue;
+      radiance += albedo / kPi * irradiance * cosine * MacroTransmittance(light, shadow_origin, jitter, rays);
     }
     return radiance;
   }
 
-  // The yarn radiance where the camera ray meets yarn in the shell at `surface`;
-  // nothing where it passes through a hole.
-  std::optional<glm::vec3> ClothRadiance(const ClothFabric& cloth, const MacroSurface& surface, glm::vec3 direction,
-                                         uint64_t& rays, std::vector<glm::vec3>& irradiance) const {
+  // What the camera ray meets in the shell at `surface`: the light it brings and the
+  // share of what lies behind that passes (1 through a hole, 0 on tube yarn).
+  struct ClothLight {
+    glm::vec3 radiance{0.0f};
+    float transmittance = 1.0f;
+  };
+  ClothLight ClothRadiance(const ClothFabric& cloth, const MacroSurface& surface, glm::vec3 direction, float jitter,
+                           uint64_t& rays, std::vector<glm::vec3>& irradiance) const {
     const SurfaceFrame& frame = surface.frame;
     const std::optional<ShellRay> ray = EnterShell(cloth, surface, direction);
-    if (!ray) return std::nullopt;
+    if (!ray) return {};
+    if (cloth.tile.volume) return VolumeRadiance(cloth, surface, *ray, jitter, rays);
     const glm::vec3 d = ray->direction;
-    const float top = cloth.tile.z_max + kShellTopOffset;
     ++rays;
     const std::optional<RayHit> hit = cloth.scene->Intersect(ray->entry, d);
-    if (!hit) return std::nullopt;
+    if (!hit) return {};
     const SurfacePoint point = MakeSurfacePoint(cloth.tile, *hit, d);
-    if (!point.front) return glm::vec3(0.0f);  // the inside of a yarn: opaque and black
+    if (!point.front) return {glm::vec3(0.0f), 0.0f};  // the inside of a yarn: opaque and black
 
     // The hit's true tile position (RayHit's is wrapped into the central tile) and world position.
     const float t_tile = (hit->position.z - ray->entry.z) / d.z;
@@ -372,20 +394,55 @@ class Tracer {
         unit += brdf.diffuse() * irradiance[half + static_cast<size_t>(cloth.directional_index[i])];
       }
       glm::vec3 direct = DirectYarnRadiance(*cloth.scene, cloth.tile, point, brdf, l, v, rays);
-      if (direct != glm::vec3(0.0f) && light.directional && light.casts_shadows) {
-        // Leave the shell along the light, through its top face or, for light from
-        // behind the surface, its bottom face, then test the world.
-        const float face = l.z > 0.0f ? top : cloth.tile.z_min - kShellTopOffset;
-        if (l.z == 0.0f) {
-          direct = glm::vec3(0.0f);
-        } else {
-          const glm::vec3 exit = world + frame.ToWorld(l * ((face - hit->position.z) / l.z));
-          if (MacroShadowed(light, exit, rays)) direct = glm::vec3(0.0f);
-        }
-      }
+      if (direct != glm::vec3(0.0f)) direct *= ShellExitTransmittance(cloth, light, frame, world, hit->position.z, l, jitter, rays);
       radiance += (unit + direct) * light_irradiance;
     }
-    return radiance;
+    return {radiance, 0.0f};
+  }
+
+  // What of a directional light reaches a point at tile height z (world position
+  // `world`) from outside the shell: leave the shell along the light (tile direction
+  // l), through its top face or, for light from behind the surface, its bottom face,
+  // then test the world.
+  float ShellExitTransmittance(const ClothFabric& cloth, const SceneLight& light, const SurfaceFrame& frame,
+                               glm::vec3 world, float z, glm::vec3 l, float jitter, uint64_t& rays) const {
+    if (!light.directional || !light.casts_shadows) return 1.0f;
+    if (l.z == 0.0f) return 0.0f;
+    const float face = l.z > 0.0f ? cloth.tile.z_max + kShellTopOffset : cloth.tile.z_min - kShellTopOffset;
+    const glm::vec3 exit = world + frame.ToWorld(l * ((face - z) / l.z));
+    return MacroTransmittance(light, exit, jitter, rays);
+  }
+
+  // The camera ray through volumetric yarn (core/acquire/volume_radiance.h): each step's
+  // fibres lit by every light through the volume and the world, and by the ambient.
+  ClothLight VolumeRadiance(const ClothFabric& cloth, const MacroSurface& surface, const ShellRay& ray, float jitter,
+                            uint64_t& rays) const {
+    const YarnVolume& volume = *cloth.tile.volume;
+    const SurfaceFrame& frame = surface.frame;
+    const glm::vec3 v = -ray.direction;
+    const glm::vec3 ambient = ToGlm(scene_.ambient());
+    ClothLight result;
+    result.transmittance = MarchVolume(volume, ray.entry, ray.direction, jitter, [&](const VolumeStep& step) {
+      const YarnMaterial& material = cloth.tile.materials[step.sample.material];
+      const float along = glm::dot(step.position - ray.entry, ray.direction);
+      const glm::vec3 world = surface.position + frame.ToWorld(ray.direction * (along - ray.back_up));
+      glm::vec3 light_sum = ambient * material.diffuse_albedo;
+      for (const SceneLight& light : lights_) {
+        glm::vec3 light_irradiance;
+        const glm::vec3 world_l = light.Direction(world, light_irradiance);
+        const glm::vec3 l = SafeNormalize(frame.ToTile(world_l), glm::vec3(0.0f));
+        const glm::vec3 f = FibreScattering(material, step.sample.fibre, l, v);
+        if (f == glm::vec3(0.0f)) continue;
+        ++rays;
+        float transmittance = VolumeTransmittance(volume, step.position, l, jitter);
+        if (transmittance > 0.0f) {
+          transmittance *= ShellExitTransmittance(cloth, light, frame, world, step.position.z, l, jitter, rays);
+        }
+        light_sum += f * transmittance * light_irradiance;
+      }
+      result.radiance += step.weight * light_sum;
+    });
+    return result;
   }
 
   const v1::SceneSpec& scene_;
@@ -442,6 +499,7 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
     for (int x = 0; x < width; ++x) {
       // The jitter stream kind, indexed by pixel: each pixel's samples are its own.
       RandomStream random(settings.seed(), RandomStream::kTexelJitter, static_cast<uint64_t>(y) * width + x);
+      RandomStream jitter(settings.seed(), RandomStream::kVolumeJitter, static_cast<uint64_t>(y) * width + x);
       glm::vec3 sum(0.0f);
       for (uint32_t i = 0; i < samples; ++i) {
         // s² jittered strata, then uniform samples for the rest.
@@ -451,7 +509,7 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
                             1.0f - 2.0f * (static_cast<float>(y) + offset.y) / static_cast<float>(height));
         const glm::vec3 near = unproject(ndc, -1.0f), far = unproject(ndc, 1.0f);
         const glm::vec3 direction = glm::normalize(far - near);
-        sum += tracer.Radiance(near, direction, glm::length(far - near), rays[worker], scratch[worker]);
+        sum += tracer.Radiance(near, direction, glm::length(far - near), jitter.Uniform(), rays[worker], scratch[worker]);
       }
       const glm::vec3 mean = sum / static_cast<float>(samples);
       for (int c = 0; c < 3; ++c) frame.image.at(x, y, c) = mean[c];

@@ -295,25 +295,45 @@ TEST(FabricTile, RejectsBadSpecsNamingTheField) {
             std::string::npos);
 }
 
-// Plies and fuzz are not modelled: building a tile that sets them says so, once per
-// yarn, on the default logger.
+// Plies and fuzz of woven yarns are not modelled: building a tile that sets them says
+// so, once per yarn, on the default logger. A knit's make a yarn volume, and no warning.
 TEST(FabricTile, UnmodelledPliesAndFuzzAreWarnedOfOncePerYarn) {
   std::ostringstream log;
   const auto previous = spdlog::default_logger();
   spdlog::set_default_logger(
       std::make_shared<spdlog::logger>("capture", std::make_shared<spdlog::sinks::ostream_sink_st>(log)));
   const v1::FabricSpec plied = ParseSpecJson<v1::FabricSpec>(
-      R"({"knit": {}, "yarns": [{"name": "four-ply test yarn", "plies": 4, "fuzz": 0.25}]})", "fabric");
+      R"({"woven": {}, "yarns": [{"name": "four-ply test yarn", "plies": 4, "fuzz": 0.25}]})", "fabric");
   BuildFabricTile(plied);
   BuildFabricTile(plied);
-  BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"name": "single-ply test yarn"}]})",
+  BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"woven": {}, "yarns": [{"name": "single-ply test yarn"}]})",
                                                 "fabric"));
+  const FabricTile knit = BuildFabricTile(ParseSpecJson<v1::FabricSpec>(
+      R"({"knit": {}, "yarns": [{"name": "plied knit yarn", "plies": 4, "fuzz": 0.25}]})", "fabric"));
   spdlog::set_default_logger(previous);
   const std::string text = log.str();
-  EXPECT_NE(text.find("yarn 'four-ply test yarn': plies (4) and fuzz (0.25) are not modelled yet"), std::string::npos)
+  EXPECT_NE(text.find("yarn 'four-ply test yarn': plies (4) and fuzz (0.25) of woven yarns are not modelled yet"),
+            std::string::npos)
       << text;
   EXPECT_EQ(text.find("not modelled"), text.rfind("not modelled")) << "warned more than once: " << text;
   EXPECT_EQ(text.find("single-ply"), std::string::npos) << text;
+  EXPECT_EQ(text.find("plied knit"), std::string::npos) << text;
+  EXPECT_NE(knit.volume, nullptr);
+}
+
+// A knit of one-ply yarns without fuzz keeps its tubes: no volume, the mesh's slab.
+TEST(FabricTile, OnePlyKnitWithoutFuzzHasNoVolume) {
+  const FabricTile tube = BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"plies": 1}]})", "fabric"));
+  EXPECT_EQ(tube.volume, nullptr);
+  const FabricTile fuzzy =
+      BuildFabricTile(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"plies": 1, "fuzz": 0.5}]})", "fabric"));
+  ASSERT_NE(fuzzy.volume, nullptr);
+  // The same centre lines, the slab widened by the flyaways' reach (half a radius).
+  EXPECT_EQ(fuzzy.mesh.positions.size(), tube.mesh.positions.size());
+  // One wale: tile and model units agree; the ring's vertices may fall short of the
+  // tube's top by R(1 − cos(π/16)) = 0.0013.
+  EXPECT_NEAR(fuzzy.z_max - tube.z_max, 0.5f * 0.07f, 2e-3f);
+  EXPECT_NEAR(tube.z_min - fuzzy.z_min, 0.5f * 0.07f, 2e-3f);
 }
 
 }  // namespace

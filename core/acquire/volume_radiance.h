@@ -1,0 +1,68 @@
+#pragma once
+// Light in a tile's yarn volume (core/fabric/yarn_volume.h): the lumislice paper's
+// emission–absorption model (§5.1, eq. 4–9) marched along rays, what the reference
+// renderer and acquisition see of knit yarns with plies or fuzz. Along a view ray
+//
+//   L = Σ_k T_k (1 − e^{−σ_k h}) · Σ_lights E f_v(l, v, t_k) T_l(p_k),
+//
+// T_k the transmittance from the ray's entry to step k, σ_k the extinction there, h the
+// step, T_l(p) the transmittance from p towards the light (eq. 5), t_k the fibre
+// direction. f_v is the yarn's Kajiya–Kay fibre shading scaled so that a thick flat bed
+// of fibres lit and seen along its normal reflects as the yarn's Lambertian surface does;
+// no scattering between fibres beyond that (the paper's I_msp is left out). Derivation
+// and limits: docs/lumislice.md.
+//
+// Rays are in tile space; they end where they leave the volume's z slab (or after
+// kMaxHorizontalTiles of travel for one along it). Steps start at `jitter` ∈ [0, 1) of a
+// step from the ray's entry into the slab.
+
+#include <glm/glm.hpp>
+
+#include "core/fabric/fabric_tile.h"
+#include "core/fabric/yarn_volume.h"
+
+namespace loom {
+
+// f_v(l, v, t) = 2 (ρ_d/π · sin(t, l) + ρ_s N(p) ψ^p), ψ as in core/acquire/kajiya_kay_brdf.h.
+glm::vec3 FibreScattering(const YarnMaterial& material, glm::vec3 fibre, glm::vec3 l, glm::vec3 v);
+
+// Below this transmittance a march stops: what lies further adds less than 10⁻⁴.
+inline constexpr float kMinVolumeTransmittance = 1e-4f;
+// A ray that runs along the slab stops after this much horizontal travel.
+inline constexpr float kMaxHorizontalTiles = 16.0f;
+
+struct VolumeStep {
+  glm::vec3 position{};  // tile space
+  VolumeSample sample;
+  float weight = 0.0f;   // T_k (1 − e^{−σ_k h})
+};
+
+// The ray's [t_enter, t_exit] inside the slab; empty (enter > exit) if it misses it.
+glm::vec2 SlabInterval(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction);
+
+// Calls visit(const VolumeStep&) for every step with fibres; returns the transmittance
+// left where the ray leaves the slab (0 once below kMinVolumeTransmittance).
+template <class Visit>
+float MarchVolume(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction, float jitter, Visit&& visit) {
+  const glm::vec2 span = SlabInterval(volume, origin, direction);
+  const float h = volume.step();
+  const float length_scale = volume.ModelLength(direction) * h;
+  float transmittance = 1.0f;
+  for (float t = span.x + jitter * h; t < span.y; t += h) {
+    VolumeStep step;
+    step.position = origin + t * direction;
+    step.sample = volume.Sample(step.position);
+    if (step.sample.extinction <= 0.0f) continue;
+    const float passed = std::exp(-step.sample.extinction * length_scale);
+    step.weight = transmittance * (1.0f - passed);
+    visit(step);
+    transmittance *= passed;
+    if (transmittance < kMinVolumeTransmittance) return 0.0f;
+  }
+  return transmittance;
+}
+
+// T from `origin` along `direction` to where the ray leaves the slab.
+float VolumeTransmittance(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction, float jitter);
+
+}  // namespace loom
