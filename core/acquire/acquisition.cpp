@@ -184,6 +184,7 @@ struct TexelPass {
   uint64_t seed;
   float top;                         // z the rays start at
   size_t first_light, light_count;   // the batch of lights
+  const std::vector<LightTransmittance>& transmittance;  // per light, for volumetric yarn
 };
 
 // Scratch space of one worker: radiance sums and interpolated irradiance per light.
@@ -247,15 +248,13 @@ std::vector<float> ViewDepthHeights(const PeriodicScene& scene, const RadianceSa
 // scratch.sum; returns the opacity.
 float AcquireVolumeRay(const TexelPass& pass, const RadianceSamples& samples, glm::vec3 start, glm::vec3 v, float jitter,
                        TexelScratch& scratch, uint64_t& rays) {
-  const YarnVolume& volume = *pass.tile.volume;
-  const float transmittance = MarchVolume(volume, start, -v, jitter, [&](const VolumeStep& step) {
+  const float transmittance = MarchVolume(*pass.tile.volume, start, -v, jitter, [&](const VolumeStep& step) {
     const YarnMaterial& material = pass.tile.materials[step.sample.material];
     for (size_t light = 0; light < pass.light_count; ++light) {
       const glm::vec3 l = samples.light_directions[pass.first_light + light];
       const glm::vec3 f = FibreScattering(material, step.sample.fibre, l, v);
       if (f == glm::vec3(0.0f)) continue;
-      ++rays;
-      scratch.sum[light] += step.weight * f * VolumeTransmittance(volume, step.position, l, jitter);
+      scratch.sum[light] += step.weight * f * pass.transmittance[pass.first_light + light](step.position);
     }
   });
   return 1.0f - transmittance;
@@ -348,8 +347,14 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
   auto vertex_rays = [&](size_t count) { return bounces > 0 ? double(vertices) * count : 0.0; };
   auto texel_rays = [&](size_t count) { return double(texels) * views * s * s * (1.0 + count); };
   const bool view_depth = settings.sampling_plane() == v1::SAMPLING_PLANE_VIEW_DEPTH;
+  // Volumetric yarn: each light's transmittance grid, its columns marched like rays.
+  std::vector<LightTransmittance> transmittance;
+  if (tile.volume) {
+    for (const glm::vec3& l : samples.light_directions) transmittance.emplace_back(*tile.volume, l);
+  }
+  const double column_rays = transmittance.empty() ? 0.0 : double(transmittance[0].column_count()) * lights;
   ProgressTracker tracker(progress, gather_rays + vertex_rays(lights) + texel_rays(lights) + (batches - 1) * texel_rays(0) +
-                                        (view_depth ? texel_rays(0) : 0.0));
+                                        (view_depth ? texel_rays(0) : 0.0) + column_rays);
 
   // The slab of geometry a ray crosses; the repeated scene covers the sideways
   // travel across it at the most grazing view (from the top face down) and the
@@ -366,6 +371,19 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
     samples.view_heights = ViewDepthHeights(scene, samples, s, settings.seed(), top, threads, rays[0], tracker.Stage());
   } else {
     samples.view_heights.assign(views, top);
+  }
+
+  if (!transmittance.empty()) {
+    tracker.Begin("volume: light transmittance", column_rays);
+    constexpr size_t kColumnsPerItem = 256;
+    const size_t per_light = (transmittance[0].column_count() + kColumnsPerItem - 1) / kColumnsPerItem;
+    ParallelFor(
+        lights * per_light, threads,
+        [&](size_t item, unsigned) {
+          transmittance[item / per_light].MarchColumns(*tile.volume, (item % per_light) * kColumnsPerItem, kColumnsPerItem);
+        },
+        [&](size_t done) { tracker.Report(static_cast<double>(done) / static_cast<double>(lights * per_light)); });
+    rays[0] += static_cast<uint64_t>(column_rays);
   }
 
   std::vector<YarnBrdf> brdfs(tile.materials.begin(), tile.materials.end());
@@ -389,7 +407,7 @@ RadianceSamples Acquire(const FabricTile& tile, const v1::PrecomputeSettings& re
       rays[0] += irradiance.rays;
     }
     tracker.Begin("radiance: " + range, texel_rays(count));
-    const TexelPass pass{tile, scene, brdfs, irradiance, s, settings.seed(), top, first, count};
+    const TexelPass pass{tile, scene, brdfs, irradiance, s, settings.seed(), top, first, count, transmittance};
     // Every batch recasts the primary rays and rewrites alpha and the normal sums
     // with the same values: cheaper than keeping hit points between batches.
     ParallelFor(

@@ -17,6 +17,7 @@
 // step from the ray's entry into the slab.
 
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/fabric/fabric_tile.h"
 #include "core/fabric/yarn_volume.h"
@@ -64,5 +65,31 @@ float MarchVolume(const YarnVolume& volume, glm::vec3 origin, glm::vec3 directio
 
 // T from `origin` along `direction` to where the ray leaves the slab.
 float VolumeTransmittance(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction, float jitter);
+
+// T_l over the tile for one light direction: what acquisition looks up at its view
+// rays' steps for every light instead of marching each. Columns start on the slab's face
+// towards the light, on a grid periodic in x and y, and march into the slab along −l,
+// each recording T where it crosses the grid's z levels; a point's T_l is interpolated
+// from the columns through its neighbourhood (bilinearly across, linearly in z).
+// Columns and levels are kTransmittanceNodeSteps march steps apart; tests/core/fabric/
+// yarn_volume_test.cpp bounds the difference from marching.
+inline constexpr float kTransmittanceNodeSteps = 2.0f;
+class LightTransmittance {
+ public:
+  // The grid for unit tile-space direction `light` (l.z ≠ 0), every node 1 until marched.
+  LightTransmittance(const YarnVolume& volume, glm::vec3 light);
+  size_t column_count() const { return static_cast<size_t>(size_.x) * size_.y; }
+  // Marches columns [first, first + count) (independent: any split and order).
+  void MarchColumns(const YarnVolume& volume, size_t first, size_t count);
+  // T_l at tile-space point p.
+  float operator()(glm::vec3 p) const;
+
+ private:
+  glm::vec3 light_{0.0f};
+  glm::ivec3 size_{1};   // columns across x and y, levels in z
+  float face_ = 0.0f;    // z of the slab's face towards the light
+  float z_min_ = 0.0f, z_step_ = 1.0f;
+  std::vector<float> values_;  // per column (x fastest, then y), its levels from z_min up
+};
 
 }  // namespace loom

@@ -182,6 +182,31 @@ TEST(YarnVolume, AMarchsWeightsAddUpToItsOpacity) {
   }
 }
 
+// Acquisition's transmittance grid against marching each point, over a knit's slab,
+// for light from above and from behind, steep and grazing.
+TEST(LightTransmittance, FollowsTheMarchedTransmittanceOfAKnit) {
+  const FabricTile tile = BuildFabricTile(ParseSpecJson<v1::FabricSpec>(
+      R"({"knit": {"wales": 2, "courses": 2}, "yarns": [{"plies": 2, "twist_degrees": 25, "fuzz": 0.3}]})", "fabric"));
+  const YarnVolume& volume = *tile.volume;
+  for (const glm::vec3 light : {glm::vec3(0, 0, 1), glm::normalize(glm::vec3(0.5f, -0.3f, 0.6f)),
+                                glm::normalize(glm::vec3(-0.9f, 0.2f, 0.15f)), glm::normalize(glm::vec3(0.2f, 0.4f, -0.7f))}) {
+    LightTransmittance grid(volume, light);
+    grid.MarchColumns(volume, 0, grid.column_count());
+    double difference = 0.0, mean = 0.0;
+    constexpr int kPoints = 2000;
+    uint32_t state = 12345;
+    auto uniform = [&] { return static_cast<float>((state = state * 1664525u + 1013904223u) >> 8) * 0x1p-24f; };
+    for (int i = 0; i < kPoints; ++i) {
+      const glm::vec3 p(uniform(), uniform(), volume.z_min() + uniform() * (volume.z_max() - volume.z_min()));
+      const float marched = VolumeTransmittance(volume, p, light, 0.5f);
+      difference += std::abs(grid(p) - marched);
+      mean += marched;
+    }
+    EXPECT_LT(difference / kPoints, 0.02) << light.x << " " << light.y << " " << light.z << ", mean T " << mean / kPoints;
+    EXPECT_GT(mean / kPoints, 0.05);
+  }
+}
+
 TEST(FibreScattering, IsTheThickBedsLambertianAtNormalIncidenceAndFollowsTheFibre) {
   YarnMaterial material;
   material.diffuse_albedo = glm::vec3(0.6f, 0.3f, 0.1f);
