@@ -4,6 +4,7 @@ usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CS
        | tables.py variations DISTANCE FABRIC_KIND CSV... | tables.py change CONFIGURATION BASELINE SWEEP_CSV
        | tables.py methods METHODS_CSV (bench/sweep_methods.json: every method against svbrdf's defaults)
        | tables.py colours COLOURS_CSV (bench/sweep_colours.json: colourways of one fabric, front- and back-lit)
+       | tables.py volume VOLUME_CSV (bench/sweep_volume.json: knits as yarn volumes and as tubes, per distance)
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, re, statistics, sys
@@ -274,8 +275,30 @@ def colours(path):
             " | ".join(psnr(lambda r, f=f: r["fabric"] == f) for f in fabrics), ", ".join(seconds),
             med([num(r["asset_bytes"]) / 1e6 for r in mine], "%.2f"), med([num(r["frame_ms"]) for r in mine], "%.0f")))
 
+def volume(path):
+    table = rows(path)
+    keys = []
+    for r in table:
+        key = (r["configuration"], r["fabric"])
+        if key not in keys:
+            keys.append(key)
+    distances = ["near", "mid", "far"]
+    print("| configuration | fabric | PSNR dB: " + " | ".join(distances) + " | 1 − SSIM: " + " | ".join(distances) +
+          " | precompute s | asset MB | frame ms median |")
+    print("|---|---|" + "---|" * (2 * len(distances)) + "---|---|---|")
+    for c, f in keys:
+        mine = [r for r in table if r["configuration"] == c and r["fabric"] == f]
+        at = lambda d, column, fmt: med([num(r[column]) for r in mine if r["distance"] == d], fmt)
+        print("| %s | %s | %s | %s | %s | %s | %s |" % (
+            c, f, " | ".join(at(d, "psnr_db", "%.2f") for d in distances),
+            " | ".join(at(d, "perceptual_error", "%.3f") for d in distances),
+            med([num(r["precompute_seconds"]) for r in mine], "%.0f"),
+            med([num(r["asset_bytes"]) / 1e6 for r in mine], "%.2f"), med([num(r["frame_ms"]) for r in mine], "%.0f")))
+
 if __name__ == "__main__":
-    if sys.argv[1] == "methods":
+    if sys.argv[1] == "volume":
+        volume(sys.argv[2])
+    elif sys.argv[1] == "methods":
         methods(sys.argv[2])
     elif sys.argv[1] == "colours":
         colours(sys.argv[2])
