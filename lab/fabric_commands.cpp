@@ -1,14 +1,16 @@
-// loom-lab geometry | acquire | fit | precompute: a fabric's micro-geometry, its
-// radiance samples, the svbrdf fit of saved samples, and its asset (the cached one,
-// of the settings' method).
+// loom-lab geometry | yarn-section | lumislice | acquire | fit | precompute: a fabric's
+// micro-geometry, a yarn's section and lumislice, its radiance samples, the svbrdf fit
+// of saved samples, and its asset (the cached one, of the settings' method).
 
 #include <cstdio>
 
 #include "core/acquire/acquisition.h"
 #include "core/fabric/fabric_tile.h"
+#include "core/fabric/yarn_material.h"
 #include "core/fabric/yarn_section.h"
 #include "core/image/image.h"
 #include "core/methods/fabric_method.h"
+#include "core/methods/lumislice/lumislice_table.h"
 #include "core/precompute/fabric_precompute.h"
 #include "core/scene/obj_writer.h"
 #include "core/spec/defaults.h"
@@ -47,6 +49,38 @@ void PrintLevels(const nlohmann::json& figures) {
     }
     std::printf("\n");
   }
+}
+
+// levelN_density.png per level, and level0_vrf.png: the finest level's diffuse VRF for
+// every light direction side by side (longitude across, altitude up), empty voxels black.
+void WriteLumisliceImages(const Lumislice& slice, const std::filesystem::path& directory) {
+  std::filesystem::create_directories(directory);
+  const float peak = 1.0f - kFibreDensityEpsilon;
+  for (size_t l = 0; l < slice.levels.size(); ++l) {
+    const LumisliceLevel& level = slice.levels[l];
+    Image image(level.resolution, level.resolution, 3);
+    for (int y = 0; y < level.resolution; ++y) {
+      for (int x = 0; x < level.resolution; ++x) {
+        const float value = level.density[static_cast<size_t>(level.resolution - 1 - y) * level.resolution + x];
+        for (int c = 0; c < 3; ++c) image.at(x, y, c) = value / peak;
+      }
+    }
+    WriteImage(image, directory / ("level" + std::to_string(l) + "_density.png"));
+  }
+  const LumisliceLevel& finest = slice.levels.front();
+  const int side = finest.resolution;
+  Image vrf(side * kLumisliceLongitudes, side * kLumisliceAltitudes, 3);
+  for (int d = 0; d < kLumisliceDirections; ++d) {
+    const int column = d % kLumisliceLongitudes, row = kLumisliceAltitudes - 1 - d / kLumisliceLongitudes;
+    for (int y = 0; y < side; ++y) {
+      for (int x = 0; x < side; ++x) {
+        const size_t voxel = static_cast<size_t>(side - 1 - y) * side + x;
+        const glm::vec4 value = finest.density[voxel] > 0.0f ? finest.at(d, voxel) : glm::vec4(0.0f);
+        for (int c = 0; c < 3; ++c) vrf.at(column * side + x, row * side + y, c) = value[c];
+      }
+    }
+  }
+  WriteImage(vrf, directory / "level0_vrf.png");
 }
 
 uintmax_t DirectoryBytes(const std::filesystem::path& directory) {
@@ -150,6 +184,54 @@ LabCommand AddYarnSectionCommand(CLI::App& app, const LabFlags& flags) {
                           "fibre area %.3f (yarn radii squared)\n",
                           options->out.c_str(), section.plies, section.ply_radius, section.ply_offset,
                           2.0 * section.extent(), fibres * cell * cell);
+            }
+            return 0;
+          }};
+}
+
+LabCommand AddLumisliceCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string fabric, out;
+    int yarn = 0;
+    LumisliceSettings settings;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand(
+      "lumislice", "Build a yarn's lumislice, every level (docs/lumislice.md), and write its tables as images");
+  command->add_option("fabric", options->fabric, "Fabric spec file (JSON)")->required();
+  command->add_option("--yarn", options->yarn, "Index into the fabric's yarns")->check(CLI::Range(0, kMaxYarns - 1));
+  command->add_option("--resolution", options->settings.resolution, "Voxels a side of the finest level");
+  command->add_option("--out,-o", options->out,
+                      "Output directory: levelN_density.png (over its peak) and level0_vrf.png (the diffuse VRF of "
+                      "every light direction, longitude across, altitude up)");
+  return {command, [&flags, options] {
+            const v1::FabricSpec fabric = WithDefaults(LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric"));
+            ThrowIfAny(Validate(fabric));
+            if (options->yarn >= fabric.yarns_size()) {
+              throw Error(ErrorCode::kInvalidArgument, "--yarn " + std::to_string(options->yarn) + ": the fabric has " +
+                                                           std::to_string(fabric.yarns_size()) + " yarns");
+            }
+            const v1::YarnSpec& yarn = fabric.yarns(options->yarn);
+            const Stopwatch stopwatch;
+            Lumislice slice;
+            {
+              ProgressBar bar("lumislice");
+              slice = BuildLumislice(MakeYarnSection(yarn), MakeYarnMaterial(yarn), options->settings,
+                                     [&](double fraction) { bar.Update(fraction, "light directions"); });
+            }
+            const double seconds = stopwatch.Seconds();
+            if (!options->out.empty()) WriteLumisliceImages(slice, options->out);
+            if (flags.json) {
+              nlohmann::json levels = nlohmann::json::array();
+              for (const LumisliceLevel& level : slice.levels) {
+                levels.push_back({{"resolution", level.resolution}, {"voxel", level.voxel}});
+              }
+              PrintJson({{"seconds", seconds}, {"bytes", slice.StoredBytes()}, {"levels", levels}});
+            } else {
+              std::printf("lumislice of yarn %d: %zu levels (%d² down to 1²), %d light directions, built in %.2f s, "
+                          "%.2f MB as half floats\n",
+                          options->yarn, slice.levels.size(), slice.levels.front().resolution, kLumisliceDirections,
+                          seconds, slice.StoredBytes() / 1e6);
             }
             return 0;
           }};

@@ -32,6 +32,7 @@ LabCommand AddKeyCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddCompareCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddGeometryCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddYarnSectionCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddLumisliceCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddAcquireCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddFitCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddPrecomputeCommand(CLI::App& app, const LabFlags& flags);

@@ -24,6 +24,7 @@ int Main(int argc, char** argv) {
       AddKeyCommand(app, flags),
       AddGeometryCommand(app, flags),
       AddYarnSectionCommand(app, flags),
+      AddLumisliceCommand(app, flags),
       AddAcquireCommand(app, flags),
       AddFitCommand(app, flags),
       AddPrecomputeCommand(app, flags),

@@ -27,6 +27,8 @@ YarnSection MakeYarnSection(const v1::YarnSpec& yarn) {
     section.ply_radius = s / (1.0f + s);
     section.ply_offset = 1.0f - section.ply_radius;
   }
+  const float helix_radius = section.plies >= 2 ? section.ply_offset : 1.0f;
+  section.twist_rate = std::tan(yarn.twist_degrees() * std::numbers::pi_v<float> / 180.0f) / helix_radius;
   return section;
 }
 

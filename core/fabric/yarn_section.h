@@ -32,13 +32,17 @@ struct YarnSection {
   float ply_radius = 1.0f;  // yarn radii
   float ply_offset = 0.0f;  // ply centres from the yarn's centre, yarn radii
   float fuzz = 0.0f;        // flyaways reach 1 + fuzz yarn radii
+  // The section's turn (radians) per yarn radius of length along the yarn: the ply
+  // centres' helix (for one ply, the yarn's surface) leans by the twist angle ψ,
+  // tan ψ / offset (offset 1 for one ply).
+  float twist_rate = 0.0f;
   // The density is 0 beyond this distance from the yarn's centre: 1 + fuzz.
   float extent() const { return 1.0f + fuzz; }
 };
 
 // `yarn` with defaults applied (plies ≥ 1, fuzz in [0, 1]). Plies ≥ 2 are the largest
 // equal circles that fit in the yarn touching their neighbours:
-// r = sin(π/K) / (1 + sin(π/K)), offset 1 − r.
+// r = sin(π/K) / (1 + sin(π/K)), offset 1 − r.  The twist rate follows `twist_degrees`.
 YarnSection MakeYarnSection(const v1::YarnSpec& yarn);
 
 // The density at `p` (yarn radii) with the section turned by `phase`: inside a ply its

@@ -23,13 +23,6 @@ glm::vec3 AnyPerpendicular(glm::vec3 t) {
   return glm::normalize(glm::cross(glm::cross(t, axis), t));
 }
 
-// The section's turn per model unit of yarn: the ply centres' helix (or, for one ply, the
-// yarn's surface) leans from the centre line by the twist angle.
-float TwistRate(const YarnSection& section, float tan_twist, float radius) {
-  const float helix_radius = (section.plies >= 2 ? section.ply_offset : 1.0f) * radius;
-  return tan_twist / helix_radius;
-}
-
 }  // namespace
 
 bool HasYarnVolume(const v1::FabricSpec& fabric) {
@@ -44,7 +37,6 @@ YarnVolume::YarnVolume(const TileYarns& yarns, const v1::FabricSpec& fabric) : m
   for (const v1::YarnSpec& yarn : fabric.yarns()) {
     sections_.push_back(MakeYarnSection(yarn));
     radius_.push_back(yarn.radius());
-    twist_tan_.push_back(std::tan(yarn.twist_degrees() * std::numbers::pi_v<float> / 180.0f));
     reach_max = std::max(reach_max, sections_.back().extent() * yarn.radius());
     ply_min = std::min(ply_min, sections_.back().ply_radius * yarn.radius());
   }
@@ -76,7 +68,7 @@ YarnVolume::YarnVolume(const TileYarns& yarns, const v1::FabricSpec& fabric) : m
     for (size_t i = 0; i + 1 < n; ++i) {
       const uint32_t y = chain.segment_yarn[i];
       const float length = glm::length(chain.points[i + 1] - chain.points[i]);
-      chain.turn[i + 1] = chain.turn[i] + TwistRate(sections_[y], twist_tan_[y], radius_[y]) * length;
+      chain.turn[i + 1] = chain.turn[i] + (sections_[y].twist_rate / radius_[y]) * length;
     }
     float total_length = 0.0f;
     for (size_t i = 0; i + 1 < n; ++i) total_length += glm::length(chain.points[i + 1] - chain.points[i]);
@@ -205,7 +197,7 @@ VolumeSample YarnVolume::Sample(glm::vec3 p) const {
       sample.material = yarn;
       // The fibres turn with the section: a point at d from the centre line moves
       // across it at rate k·|d| as it runs along it.
-      const glm::vec3 fibre = t + TwistRate(section, twist_tan_[yarn], radius) * glm::cross(t, d);
+      const glm::vec3 fibre = t + (section.twist_rate / radius) * glm::cross(t, d);
       sample.fibre = glm::normalize(fibre * model_to_tile_);
     }
   }

@@ -74,7 +74,6 @@ class YarnVolume {
   std::vector<Chain> chains_;
   std::vector<YarnSection> sections_;   // per FabricSpec.yarns index
   std::vector<float> radius_;           // yarn radius, model units, per yarn
-  std::vector<float> twist_tan_;        // tan of the ply twist angle, per yarn
   glm::vec3 model_to_tile_{1.0f};
   glm::vec2 period_{1.0f};              // the tile in model units
   int grid_ = 1;                        // cells per side

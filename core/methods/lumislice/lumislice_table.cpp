@@ -1,0 +1,174 @@
+#include "core/methods/lumislice/lumislice_table.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/fabric/yarn_volume.h"
+#include "core/util/error.h"
+#include "core/util/parallel_for.h"
+
+namespace loom {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+// March steps per radius of the thinnest ply at least, as the volume's march (yarn_volume.cpp).
+constexpr float kStepsPerPlyRadius = 6.0f;
+
+glm::vec2 VoxelCentre(const YarnSection& section, int resolution, size_t voxel) {
+  const float cell = 2.0f * section.extent() / static_cast<float>(resolution);
+  const int x = static_cast<int>(voxel % resolution), y = static_cast<int>(voxel / resolution);
+  return {-section.extent() + cell * (x + 0.5f), -section.extent() + cell * (y + 0.5f)};
+}
+
+// The part [enter, exit] of the ray p + s·d, s ≥ 0, inside the circle of radius r about
+// the origin (empty: enter ≥ exit); all of s ≥ 0 when d has no part in the plane and p
+// is inside.
+glm::vec2 CircleInterval(glm::vec2 p, glm::vec2 d, float r) {
+  const float a = glm::dot(d, d), b = glm::dot(p, d), c = glm::dot(p, p) - r * r;
+  if (a < 1e-12f) return c <= 0.0f ? glm::vec2(0.0f, std::numeric_limits<float>::infinity()) : glm::vec2(0.0f);
+  const float discriminant = b * b - a * c;
+  if (discriminant <= 0.0f) return glm::vec2(0.0f);
+  const float root = std::sqrt(discriminant);
+  return {std::max((-b - root) / a, 0.0f), std::max((-b + root) / a, 0.0f)};
+}
+
+// Bilinear at (u, v) in voxel units of `level` (voxel centres at integer + 0.5), clamped.
+template <class Value>
+Value Bilinear(const std::vector<Value>& values, int resolution, size_t offset, glm::vec2 at) {
+  const glm::vec2 q = glm::clamp(at - 0.5f, glm::vec2(0.0f), glm::vec2(static_cast<float>(resolution - 1)));
+  const int x0 = static_cast<int>(q.x), y0 = static_cast<int>(q.y);
+  const int x1 = std::min(x0 + 1, resolution - 1), y1 = std::min(y0 + 1, resolution - 1);
+  const float fx = q.x - static_cast<float>(x0), fy = q.y - static_cast<float>(y0);
+  auto value = [&](int x, int y) { return values[offset + static_cast<size_t>(y) * resolution + x]; };
+  return (value(x0, y0) * (1.0f - fx) + value(x1, y0) * fx) * (1.0f - fy) +
+         (value(x0, y1) * (1.0f - fx) + value(x1, y1) * fx) * fy;
+}
+
+}  // namespace
+
+glm::vec3 LumisliceLightDirection(int direction) {
+  const int longitude = direction % kLumisliceLongitudes, altitude = direction / kLumisliceLongitudes;
+  const float theta = 2.0f * kPi * static_cast<float>(longitude) / kLumisliceLongitudes;
+  const float phi = -0.5f * kPi + kPi * static_cast<float>(altitude) / (kLumisliceAltitudes - 1);
+  return {std::cos(phi) * std::cos(theta), std::cos(phi) * std::sin(theta), std::sin(phi)};
+}
+
+size_t Lumislice::StoredBytes() const {
+  size_t halves = 0;
+  for (const LumisliceLevel& level : levels) halves += level.density.size() + 4 * level.vrf.size();
+  return 2 * halves;
+}
+
+float LumisliceMarchStep(const YarnSection& section, int resolution) {
+  return std::min(section.ply_radius / kStepsPerPlyRadius, section.extent() / static_cast<float>(resolution));
+}
+
+float LumisliceLightTransmittance(const YarnSection& section, float optical_density, glm::vec2 p, glm::vec3 light,
+                                  float max_path, float h) {
+  const glm::vec2 inside = CircleInterval(p, glm::vec2(light), section.extent());
+  const float begin = inside.x, end = std::min(inside.y, max_path);
+  float depth = 0.0f;
+  for (float s = begin + 0.5f * h; s < end + 0.5f * h; s += h) {
+    const glm::vec3 q = glm::vec3(p, 0.0f) + s * light;
+    depth += FibreDensity(section, glm::vec2(q), section.twist_rate * q.z) * (std::min(s + 0.5f * h, end) - (s - 0.5f * h));
+  }
+  return std::exp(-optical_density * depth);
+}
+
+LumisliceLevel HalveLumisliceLevel(const LumisliceLevel& fine) {
+  LumisliceLevel coarse;
+  coarse.resolution = fine.resolution / 2;
+  coarse.voxel = 2.0f * fine.voxel;
+  const size_t voxels = coarse.voxel_count();
+  coarse.density.resize(voxels);
+  coarse.vrf.resize(static_cast<size_t>(kLumisliceDirections) * voxels);
+  auto block = [&](size_t voxel, int k) {
+    const int x = 2 * static_cast<int>(voxel % coarse.resolution) + (k & 1);
+    const int y = 2 * static_cast<int>(voxel / coarse.resolution) + (k >> 1);
+    return static_cast<size_t>(y) * fine.resolution + x;
+  };
+  for (size_t voxel = 0; voxel < voxels; ++voxel) {
+    float sum = 0.0f;
+    for (int k = 0; k < 4; ++k) sum += fine.density[block(voxel, k)];
+    coarse.density[voxel] = 0.25f * sum;
+    for (int d = 0; d < kLumisliceDirections; ++d) {
+      glm::vec4 weighted(0.0f), plain(0.0f);
+      for (int k = 0; k < 4; ++k) {
+        const glm::vec4& c = fine.at(d, block(voxel, k));
+        weighted += fine.density[block(voxel, k)] * c;
+        plain += c;
+      }
+      coarse.vrf[d * voxels + voxel] = sum > 0.0f ? weighted / sum : 0.25f * plain;
+    }
+  }
+  return coarse;
+}
+
+LumisliceLevel SampleLumisliceLevel(const LumisliceLevel& finest, int resolution) {
+  LumisliceLevel level;
+  level.resolution = resolution;
+  level.voxel = finest.voxel * static_cast<float>(finest.resolution) / static_cast<float>(resolution);
+  const size_t voxels = level.voxel_count();
+  level.density.resize(voxels);
+  level.vrf.resize(static_cast<size_t>(kLumisliceDirections) * voxels);
+  const float scale = static_cast<float>(finest.resolution) / static_cast<float>(resolution);
+  for (size_t voxel = 0; voxel < voxels; ++voxel) {
+    const glm::vec2 at = scale * glm::vec2(static_cast<float>(voxel % resolution) + 0.5f,
+                                           static_cast<float>(voxel / resolution) + 0.5f);
+    level.density[voxel] = Bilinear(finest.density, finest.resolution, 0, at);
+    for (int d = 0; d < kLumisliceDirections; ++d) {
+      level.vrf[d * voxels + voxel] = Bilinear(finest.vrf, finest.resolution, d * finest.voxel_count(), at);
+    }
+  }
+  return level;
+}
+
+Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& material, const LumisliceSettings& settings,
+                         const std::function<void(double)>& progress) {
+  const int resolution = settings.resolution;
+  if (resolution < kLumisliceAveragedMinimum || resolution > 256 || (resolution & (resolution - 1)) != 0) {
+    throw Error(ErrorCode::kInvalidArgument, "lumislice resolution " + std::to_string(resolution) +
+                                                 ": must be a power of two in [8, 256]");
+  }
+  Lumislice slice;
+  slice.section = section;
+  slice.optical_density = kYarnOpticalDensity;
+  LumisliceLevel finest;
+  finest.resolution = resolution;
+  finest.voxel = 2.0f * section.extent() / static_cast<float>(resolution);
+  finest.density = SectionDensityGrid(section, resolution);
+  const size_t voxels = finest.voxel_count();
+  finest.vrf.assign(static_cast<size_t>(kLumisliceDirections) * voxels, glm::vec4(0.0f));
+  const glm::vec3 diffuse = 2.0f * material.diffuse_albedo / kPi;
+  const float step = LumisliceMarchStep(section, resolution);
+  ParallelFor(
+      kLumisliceDirections, settings.threads,
+      [&](size_t direction, unsigned) {
+        const glm::vec3 light = LumisliceLightDirection(static_cast<int>(direction));
+        for (size_t voxel = 0; voxel < voxels; ++voxel) {
+          const glm::vec2 p = VoxelCentre(section, resolution, voxel);
+          // The fibre at offset d from the centre line runs along T + k·(T × d).
+          const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
+          const float sin_l = glm::length(glm::cross(fibre, light));
+          const float transmittance =
+              LumisliceLightTransmittance(section, slice.optical_density, p, light, settings.max_light_path, step);
+          finest.vrf[direction * voxels + voxel] = glm::vec4(diffuse * sin_l * transmittance, transmittance);
+        }
+      },
+      [&](size_t done) {
+        if (progress) progress(static_cast<double>(done) / kLumisliceDirections);
+      });
+  slice.levels.push_back(std::move(finest));
+  while (slice.levels.back().resolution > kLumisliceAveragedMinimum) {
+    slice.levels.push_back(HalveLumisliceLevel(slice.levels.back()));
+  }
+  for (int r = kLumisliceAveragedMinimum / 2; r >= 1; r /= 2) {
+    slice.levels.push_back(SampleLumisliceLevel(slice.levels.front(), r));
+  }
+  return slice;
+}
+
+}  // namespace loom
