@@ -1,7 +1,7 @@
 // loom-lab render: a scene to an image. The GPU renders each fabric by its method
 // (svbrdf: the fitted BRDF arrays; tabulated: the samples), each distinct fabric
 // precomputed once in this process; `reference` ray traces the real yarn geometry
-// shell-mapped onto the surfaces.
+// shell-mapped onto the surfaces; `lumislice` draws knit cloth as volumetric yarn.
 
 #include <algorithm>
 #include <cctype>
@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/render/lumislice_renderer.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
@@ -79,6 +80,47 @@ Image RenderGpu(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes
   return std::move(frame.image);
 }
 
+// Renders knit cloth as volumetric yarn, building each distinct knit fabric's
+// lumislices in this process first.
+Image RenderLumislice(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
+                      int frames, nlohmann::json& figures) {
+  const Stopwatch stopwatch;
+  std::map<std::string, YarnLumislices> built;
+  std::vector<const YarnLumislices*> yarns(meshes.size(), nullptr);
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const v1::SceneObject& object = *meshes[i].object;
+    if (!object.has_fabric()) continue;
+    const v1::FabricSpec fabric = WithDefaults(object.fabric().fabric());
+    if (!fabric.has_knit()) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "objects[" + std::to_string(i) + "].fabric: lumislice renders knit fabrics only");
+    }
+    auto [at, inserted] = built.try_emplace(fabric.SerializeAsString());
+    if (inserted) at->second = BuildFabricLumislices(fabric, LumisliceSettings());
+    yarns[i] = &at->second;
+  }
+  figures["precompute_seconds"] = stopwatch.Seconds();
+  const auto context = MakeContext(gl);
+  LumisliceRenderer renderer(*context);
+  LumisliceFrame frame = renderer.Render(scene, meshes, yarns);
+  figures["first_frame_ms"] = frame.rendered.cpu_ms;
+  double frame_ms = frame.rendered.cpu_ms, gpu_ms = frame.rendered.gpu_ms;
+  for (int i = 1; i < frames; ++i) {
+    frame = renderer.Render(scene, meshes, yarns);
+    frame_ms = std::min(frame_ms, frame.rendered.cpu_ms);
+    gpu_ms = std::min(gpu_ms, frame.rendered.gpu_ms);
+  }
+  figures["method"] = "lumislice";
+  figures["frames"] = frames;
+  figures["frame_ms"] = frame_ms;
+  figures["gpu_ms"] = gpu_ms;
+  figures["segments"] = frame.segments;
+  figures["slices"] = frame.slices;
+  figures["segments_per_level"] = frame.segments_per_level;
+  figures["device"] = DeviceJson(context->info());
+  return std::move(frame.rendered.image);
+}
+
 Image RenderReference(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, nlohmann::json& figures) {
   ReferenceRenderer renderer;
   ReferenceFrame frame = renderer.Render(scene, meshes);
@@ -102,10 +144,13 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
   command->add_option("--out,-o", options->out, "Output image")->required();
   command->add_option("--method", options->method,
-                      "reference, or a fabric method for every cloth object on the GPU: " + MethodNames() +
+                      "reference, lumislice (knit cloth as volumetric yarn on the GPU), or a fabric method for "
+                      "every cloth object on the GPU: " + MethodNames() +
                           " (default: the scene's render.method and each object's precompute.method)")
       ->check([](const std::string& name) {
-        return name == "reference" || MethodNamed(name) ? std::string() : "not reference, " + MethodNames();
+        return name == "reference" || name == "lumislice" || MethodNamed(name)
+                   ? std::string()
+                   : "not reference, lumislice, " + MethodNames();
       });
   command->add_option("--level-mode", options->level_mode, "svbrdf level mode (default: the scene's render.level_mode)")
       ->check(CLI::IsMember({"none", "nearest", "trilinear", "anisotropic"}));
@@ -133,6 +178,8 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
             v1::SceneSpec scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
             if (options->method == "reference") {
               scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
+            } else if (options->method == "lumislice") {
+              scene.mutable_render()->set_method(v1::RENDER_METHOD_LUMISLICE);
             } else if (!options->method.empty()) {
               scene.mutable_render()->set_method(v1::RENDER_METHOD_SVBRDF);
               const v1::FabricMethod method = MethodNamed(options->method)->id();
@@ -166,11 +213,13 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags) {
             ValidateOrThrow(scene);
             const auto meshes =
                 BuildSceneGeometry(scene, FileMeshResolver(std::filesystem::path(options->scene).parent_path()));
-            const bool reference = scene.render().method() == v1::RENDER_METHOD_REFERENCE;
+            const v1::RenderMethod method = scene.render().method();
             nlohmann::json figures = {{"out", options->out}, {"method", "reference"}};
             const Image image =
-                reference ? RenderReference(scene, meshes, figures)
-                          : RenderGpu(scene, meshes, options->gl, options->fabric_cache, options->frames, figures);
+                method == v1::RENDER_METHOD_REFERENCE ? RenderReference(scene, meshes, figures)
+                : method == v1::RENDER_METHOD_LUMISLICE
+                    ? RenderLumislice(scene, meshes, options->gl, options->frames, figures)
+                    : RenderGpu(scene, meshes, options->gl, options->fabric_cache, options->frames, figures);
             WriteImage(image, options->out);
             figures["width"] = image.width;
             figures["height"] = image.height;

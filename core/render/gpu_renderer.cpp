@@ -10,6 +10,7 @@
 #include "core/gl/framebuffer.h"
 #include "core/gl/gpu_timer.h"
 #include "core/gl/mesh_buffer.h"
+#include "core/render/scene_lights.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene_light.h"
 #include "core/spec/defaults.h"
@@ -17,13 +18,6 @@
 
 namespace loom {
 namespace {
-
-constexpr int kMaxLights = 16;  // as in lights.glsl and core/spec/limits.h
-
-SceneBounds BoundsOf(const std::vector<SceneMesh>& meshes) {
-  const Bounds bounds = SceneGeometryBounds(meshes);
-  return {bounds.centre(), std::max(0.5f * bounds.diagonal(), 1e-3f)};
-}
 
 // Mesh indices in drawing order: objects without a fabric, then cloth from the
 // farthest (bounding-box centre from the eye) to the nearest.
@@ -51,40 +45,6 @@ constexpr int kFabricUnit = 1;
 // Tiles across the object's uv square (t_N).
 glm::vec2 FabricRepeat(const v1::SceneObject& object) {
   return {object.fabric().repeat_u(), object.fabric().repeat_v()};
-}
-
-std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
-
-// Renders the shadow maps the scene's lights need and uploads the lights to each
-// of `programs`.
-void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
-                 const std::vector<const gl::MeshBuffer*>& opaque_casters,
-                 const std::vector<ShadowMaps::ClothCaster>& cloth_casters, ShadowMaps& shadows,
-                 const std::vector<const gl::ShaderProgram*>& programs) {
-  std::vector<glm::vec3> shadow_directions;
-  const int count = std::min(scene.lights_size(), kMaxLights);
-  for (int i = 0; i < count; ++i) {
-    const SceneLight light = MakeSceneLight(scene.lights(i));
-    int shadow = -1;
-    if (light.directional && light.casts_shadows && shadow_directions.size() < kMaxShadowMaps) {
-      shadow = static_cast<int>(shadow_directions.size());
-      shadow_directions.push_back(light.vector);
-    }
-    for (const gl::ShaderProgram* program : programs) {
-      program->Set(Indexed("u_light_vector", i).c_str(), glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
-      program->Set(Indexed("u_light_radiance", i).c_str(), light.radiance);
-      program->Set(Indexed("u_light_shadow", i).c_str(), shadow);
-    }
-  }
-  shadows.Render(shadow_directions, bounds, opaque_casters, cloth_casters, kFabricUnit);
-  for (const gl::ShaderProgram* program : programs) {
-    program->Set("u_light_count", count);
-    for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
-      program->Set(Indexed("u_shadow_matrix", static_cast<int>(layer)).c_str(),
-                   shadows.matrix(static_cast<int>(layer)));
-    }
-    program->Set("u_shadow_bias", shadows.bias());
-  }
 }
 
 // The scene's MSAA sample count, clamped to what this GL can give the float
@@ -234,7 +194,7 @@ RenderedFrame GpuRenderer::Render(const v1::SceneSpec& scene, const std::vector<
   gl::GpuTimer timer, shadow_timer, cloth_timer;
   timer.Start();
   shadow_timer.Start();
-  SetUpLights(scene, BoundsOf(meshes), opaque_casters, cloth_casters, *shadows_, programs);
+  SetUpLights(scene, SceneBoundsOf(meshes), opaque_casters, cloth_casters, *shadows_, kFabricUnit, programs);
   shadow_timer.Stop();
 
   if (compute && (!gbuffer_ || gbuffer_->width() != width || gbuffer_->height() != height)) {

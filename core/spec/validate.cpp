@@ -396,7 +396,6 @@ void CheckFabric(const v1::FabricSpec& fabric, const IssueCollector& at) {
 
 void CheckRender(const v1::RenderSettings& settings, const IssueCollector& at) {
   switch (settings.method()) {
-    case v1::RENDER_METHOD_LUMISLICE:
     case v1::RENDER_METHOD_NEURAL:
     case v1::RENDER_METHOD_AUTO:
       at.Report("method", Cat(v1::RenderMethod_Name(settings.method()), " is not implemented yet (roadmap)"));
@@ -493,6 +492,14 @@ void CheckScene(const v1::SceneSpec& scene, const IssueCollector& at) {
   at.Colour("ambient", scene.ambient(), 0);
   at.Colour("background", scene.background(), 0);
   CheckRender(scene.render(), at.Field("render"));
+  if (scene.render().method() == v1::RENDER_METHOD_LUMISLICE) {
+    for (int i = 0; i < scene.objects_size(); ++i) {
+      const v1::SceneObject& object = scene.objects(i);
+      if (object.has_fabric() && !object.fabric().fabric().has_knit()) {
+        at.Element("objects", i).Field("fabric").Report("fabric", "RENDER_METHOD_LUMISLICE renders knit fabrics only");
+      }
+    }
+  }
 }
 
 // Defaults first (zero means default), then the generic rules, then the spec's own.

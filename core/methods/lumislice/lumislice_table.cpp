@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "core/fabric/yarn_material.h"
 #include "core/fabric/yarn_volume.h"
 #include "core/util/error.h"
 #include "core/util/parallel_for.h"
@@ -33,18 +34,6 @@ glm::vec2 CircleInterval(glm::vec2 p, glm::vec2 d, float r) {
   if (discriminant <= 0.0f) return glm::vec2(0.0f);
   const float root = std::sqrt(discriminant);
   return {std::max((-b - root) / a, 0.0f), std::max((-b + root) / a, 0.0f)};
-}
-
-// Bilinear at (u, v) in voxel units of `level` (voxel centres at integer + 0.5), clamped.
-template <class Value>
-Value Bilinear(const std::vector<Value>& values, int resolution, size_t offset, glm::vec2 at) {
-  const glm::vec2 q = glm::clamp(at - 0.5f, glm::vec2(0.0f), glm::vec2(static_cast<float>(resolution - 1)));
-  const int x0 = static_cast<int>(q.x), y0 = static_cast<int>(q.y);
-  const int x1 = std::min(x0 + 1, resolution - 1), y1 = std::min(y0 + 1, resolution - 1);
-  const float fx = q.x - static_cast<float>(x0), fy = q.y - static_cast<float>(y0);
-  auto value = [&](int x, int y) { return values[offset + static_cast<size_t>(y) * resolution + x]; };
-  return (value(x0, y0) * (1.0f - fx) + value(x1, y0) * fx) * (1.0f - fy) +
-         (value(x0, y1) * (1.0f - fx) + value(x1, y1) * fx) * fy;
 }
 
 }  // namespace
@@ -107,29 +96,10 @@ LumisliceLevel HalveLumisliceLevel(const LumisliceLevel& fine) {
   return coarse;
 }
 
-LumisliceLevel SampleLumisliceLevel(const LumisliceLevel& finest, int resolution) {
-  LumisliceLevel level;
-  level.resolution = resolution;
-  level.voxel = finest.voxel * static_cast<float>(finest.resolution) / static_cast<float>(resolution);
-  const size_t voxels = level.voxel_count();
-  level.density.resize(voxels);
-  level.vrf.resize(static_cast<size_t>(kLumisliceDirections) * voxels);
-  const float scale = static_cast<float>(finest.resolution) / static_cast<float>(resolution);
-  for (size_t voxel = 0; voxel < voxels; ++voxel) {
-    const glm::vec2 at = scale * glm::vec2(static_cast<float>(voxel % resolution) + 0.5f,
-                                           static_cast<float>(voxel / resolution) + 0.5f);
-    level.density[voxel] = Bilinear(finest.density, finest.resolution, 0, at);
-    for (int d = 0; d < kLumisliceDirections; ++d) {
-      level.vrf[d * voxels + voxel] = Bilinear(finest.vrf, finest.resolution, d * finest.voxel_count(), at);
-    }
-  }
-  return level;
-}
-
 Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& material, const LumisliceSettings& settings,
                          const std::function<void(double)>& progress) {
   const int resolution = settings.resolution;
-  if (resolution < kLumisliceAveragedMinimum || resolution > 256 || (resolution & (resolution - 1)) != 0) {
+  if (resolution < 8 || resolution > 256 || (resolution & (resolution - 1)) != 0) {
     throw Error(ErrorCode::kInvalidArgument, "lumislice resolution " + std::to_string(resolution) +
                                                  ": must be a power of two in [8, 256]");
   }
@@ -162,13 +132,16 @@ Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& materia
         if (progress) progress(static_cast<double>(done) / kLumisliceDirections);
       });
   slice.levels.push_back(std::move(finest));
-  while (slice.levels.back().resolution > kLumisliceAveragedMinimum) {
-    slice.levels.push_back(HalveLumisliceLevel(slice.levels.back()));
-  }
-  for (int r = kLumisliceAveragedMinimum / 2; r >= 1; r /= 2) {
-    slice.levels.push_back(SampleLumisliceLevel(slice.levels.front(), r));
-  }
+  while (slice.levels.back().resolution > 1) slice.levels.push_back(HalveLumisliceLevel(slice.levels.back()));
   return slice;
+}
+
+std::vector<Lumislice> BuildFabricLumislices(const v1::FabricSpec& fabric, const LumisliceSettings& settings) {
+  std::vector<Lumislice> slices;
+  for (const v1::YarnSpec& yarn : fabric.yarns()) {
+    slices.push_back(BuildLumislice(MakeYarnSection(yarn), MakeYarnMaterial(yarn), settings));
+  }
+  return slices;
 }
 
 }  // namespace loom

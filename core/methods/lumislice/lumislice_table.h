@@ -6,8 +6,9 @@
 // the straight twisted yarn around it (eq. 5); the voxel reflects it with the volume's
 // fibre shading (core/acquire/volume_radiance.h), so slices composited along a yarn
 // give what the reference's march gives. Levels of detail halve the resolution and
-// double the voxel by eq. 11 down to 8×8 and sample the finest level below. What is
-// kept and dropped from the paper, and the derivation: docs/lumislice.md.
+// double the voxel by eq. 11 down to 1×1 (the paper samples the finest level below 8×8;
+// that measured worse, docs/lumislice.md). What is kept and dropped from the paper, and
+// the derivation: docs/lumislice.md.
 //
 // The slice's frame: x and y the section's axes at twist phase 0 (yarn radii), z along
 // the yarn. Light directions are (cos φ cos θ, cos φ sin θ, sin φ), θ the longitude
@@ -22,14 +23,13 @@
 
 #include "core/fabric/fabric_tile.h"
 #include "core/fabric/yarn_section.h"
+#include "loom/v1/fabric.pb.h"
 
 namespace loom {
 
 inline constexpr int kLumisliceLongitudes = 32;
 inline constexpr int kLumisliceAltitudes = 21;
 inline constexpr int kLumisliceDirections = kLumisliceLongitudes * kLumisliceAltitudes;
-// Levels below this resolution are sampled from the finest, not averaged (§5.2.2).
-inline constexpr int kLumisliceAveragedMinimum = 8;
 
 // Table direction `longitude` + kLumisliceLongitudes·`altitude`, in the slice's frame.
 glm::vec3 LumisliceLightDirection(int direction);
@@ -69,6 +69,10 @@ struct LumisliceSettings {
 Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& material, const LumisliceSettings& settings,
                          const std::function<void(double)>& progress = {});
 
+// The lumislice of each of `fabric`'s yarns (WithDefaults applied), by FabricSpec.yarns
+// index.
+std::vector<Lumislice> BuildFabricLumislices(const v1::FabricSpec& fabric, const LumisliceSettings& settings);
+
 // The light's transmittance (eq. 5) from `light` to section point `p` (yarn radii, z = 0)
 // through the straight yarn twisted at section.twist_rate, marched in steps of `step`
 // (yarn radii) up to `max_path` yarn radii or out of the section's extent.
@@ -81,8 +85,5 @@ float LumisliceMarchStep(const YarnSection& section, int resolution);
 // Eq. 11: half the resolution, twice the voxel: ρ' the mean of each 2×2 block, the VRF
 // its density-weighted mean (the plain mean where the block is empty).
 LumisliceLevel HalveLumisliceLevel(const LumisliceLevel& fine);
-// A level of `resolution` (below kLumisliceAveragedMinimum) sampled from `finest`:
-// density and VRF bilinear at each voxel's centre.
-LumisliceLevel SampleLumisliceLevel(const LumisliceLevel& finest, int resolution);
 
 }  // namespace loom

@@ -88,7 +88,7 @@ TEST(LumisliceTable, LightTransmittanceFollowsTheTwistedYarnsDensity) {
 // Eq. 11: light along the yarn through a coarse voxel (2Δ thick) passes e^{−γρ'·2Δ}, the
 // geometric mean of what it passes through the two fine slices of each of the four fine
 // voxels under it, (Π T_i²)^{1/4} = √(T₁T₂T₃T₄) with T_i = e^{−γρ_iΔ}. The coarse
-// colour is the density-weighted mean. Below 8×8 levels are sampled.
+// colour is the density-weighted mean, down to 1×1.
 TEST(LumisliceTable, LevelsKeepTheTransmissionOfEq11) {
   const YarnSection section = SectionOf(2, 0.4f, 20.0f);
   YarnMaterial material;
@@ -102,7 +102,6 @@ TEST(LumisliceTable, LevelsKeepTheTransmissionOfEq11) {
     const LumisliceLevel& fine = slice.levels[l - 1];
     const LumisliceLevel& coarse = slice.levels[l];
     EXPECT_FLOAT_EQ(coarse.voxel * coarse.resolution, fine.voxel * fine.resolution) << l;
-    if (coarse.resolution < kLumisliceAveragedMinimum) continue;
     EXPECT_FLOAT_EQ(coarse.voxel, 2.0f * fine.voxel);
     for (size_t v = 0; v < coarse.voxel_count(); ++v) {
       const int x = 2 * static_cast<int>(v % coarse.resolution), y = 2 * static_cast<int>(v / coarse.resolution);
@@ -125,7 +124,6 @@ TEST(LumisliceTable, LevelsKeepTheTransmissionOfEq11) {
   }
   // A coarse level keeps the section's fibre: ρ'·(2Δ)² = Σρ·Δ² over its blocks.
   for (const LumisliceLevel& level : slice.levels) {
-    if (level.resolution < kLumisliceAveragedMinimum) continue;
     double fibre = 0.0;
     for (const float rho : level.density) fibre += rho * level.voxel * level.voxel;
     double finest = 0.0;

@@ -255,8 +255,6 @@ TEST_P(RenderRule, ReportsPathAndLimit) {
 INSTANTIATE_TEST_SUITE_P(
     Validate, RenderRule,
     testing::Values(
-        RuleCase{"Lumislice", R"({"method": "RENDER_METHOD_LUMISLICE"})", "render.method",
-                 "RENDER_METHOD_LUMISLICE is not implemented yet (roadmap)"},
         RuleCase{"Neural", R"({"method": "RENDER_METHOD_NEURAL"})", "render.method",
                  "RENDER_METHOD_NEURAL is not implemented yet (roadmap)"},
         RuleCase{"Auto", R"({"method": "RENDER_METHOD_AUTO"})", "render.method",
@@ -457,6 +455,14 @@ TEST(Validate, ZeroIsARealValueWhereItMeansZero) {
   EXPECT_EQ(WithDefaults(settings).indirect_bounces(), 0u);
   EXPECT_FALSE(WithDefaults(settings).lookup_table());
   EXPECT_FALSE(WithDefaults(settings).half_float());
+}
+
+TEST(Validate, LumisliceRendersKnitCloth) {
+  const std::string cloth = R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": {"fabric": )";
+  const std::string render = R"(}}], "render": {"method": "RENDER_METHOD_LUMISLICE"}})";
+  EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(SceneJson(cloth + R"({"knit": {}})" + render), "scene")), "");
+  EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(SceneJson(cloth + R"({"woven": {}})" + render), "scene")),
+            "scene.objects[0].fabric.fabric: RENDER_METHOD_LUMISLICE renders knit fabrics only");
 }
 
 TEST(Validate, PointLightNeedsNoDirection) {

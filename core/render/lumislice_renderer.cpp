@@ -1,0 +1,380 @@
+#include "core/render/lumislice_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <string>
+
+#include "core/acquire/kajiya_kay_brdf.h"
+#include "core/fabric/yarn_material.h"
+#include "core/gl/gpu_timer.h"
+#include "core/gl/mesh_buffer.h"
+#include "core/render/scene_lights.h"
+#include "core/scene/camera.h"
+#include "core/spec/defaults.h"
+#include "core/util/error.h"
+#include "core/util/stopwatch.h"
+
+namespace loom {
+namespace {
+
+constexpr int kShadowUnit = 0;
+constexpr int kDepthUnit = 1;
+constexpr int kVrfUnit = 2;
+constexpr int kDensityUnit = 3;
+constexpr int kMaxAtlasYarns = 16;  // as the yarn arrays of lumislice.frag
+constexpr int kLongitudeSpan = kLumisliceLongitudes + 1;
+
+// One segment as lumislice_segment.glsl reads it.
+struct GpuSegment {
+  glm::vec4 start, end, normal, start_plane, end_plane;
+};
+
+struct SortedSegment {
+  float distance;
+  uint64_t order;  // its place in the skeleton: ties keep it
+  GpuSegment segment;
+};
+
+std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
+
+// Every yarn's lumislice in two textures (lumislice.frag AtlasTexel): levels side by
+// side in x, each with a border of empty voxels, yarns stacked in y; the VRF's
+// directions in z, each longitude row followed by its first entry again.
+class LumisliceAtlas {
+ public:
+  LumisliceAtlas(const std::vector<const Lumislice*>& yarns, int resolution) {
+    const int levels = static_cast<int>(yarns.front()->levels.size());
+    width_ = 0;
+    for (int l = 0; l < levels; ++l) width_ += (resolution >> l) + 2;
+    height_ = static_cast<int>(yarns.size()) * (resolution + 2);
+    const int depth = kLongitudeSpan * kLumisliceAltitudes;
+    std::vector<glm::vec4> vrf(static_cast<size_t>(width_) * height_ * depth, glm::vec4(0.0f));
+    std::vector<float> density(static_cast<size_t>(width_) * height_, 0.0f);
+    for (size_t y = 0; y < yarns.size(); ++y) {
+      int x0 = 0;
+      for (int l = 0; l < levels; ++l) {
+        const LumisliceLevel& level = yarns[y]->levels[static_cast<size_t>(l)];
+        for (int j = 0; j < level.resolution; ++j) {
+          for (int i = 0; i < level.resolution; ++i) {
+            const size_t voxel = static_cast<size_t>(j) * level.resolution + i;
+            const size_t texel = static_cast<size_t>(static_cast<int>(y) * (resolution + 2) + 1 + j) * width_ +
+                                 static_cast<size_t>(x0 + 1 + i);
+            density[texel] = level.density[voxel];
+            for (int a = 0; a < kLumisliceAltitudes; ++a) {
+              for (int k = 0; k < kLongitudeSpan; ++k) {
+                const int direction = (k % kLumisliceLongitudes) + kLumisliceLongitudes * a;
+                vrf[static_cast<size_t>(a * kLongitudeSpan + k) * width_ * height_ + texel] =
+                    level.at(direction, voxel);
+              }
+            }
+          }
+        }
+        x0 += (resolution >> l) + 2;
+      }
+    }
+    glCreateTextures(GL_TEXTURE_3D, 1, &vrf_);
+    glTextureStorage3D(vrf_, 1, GL_RGBA16F, width_, height_, depth);
+    glTextureSubImage3D(vrf_, 0, 0, 0, 0, width_, height_, depth, GL_RGBA, GL_FLOAT, vrf.data());
+    glCreateTextures(GL_TEXTURE_2D, 1, &density_);
+    glTextureStorage2D(density_, 1, GL_R32F, width_, height_);
+    glTextureSubImage2D(density_, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, density.data());
+    for (const GLuint texture : {vrf_, density_}) {
+      glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glTextureParameteri(texture, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    }
+  }
+  ~LumisliceAtlas() {
+    glDeleteTextures(1, &vrf_);
+    glDeleteTextures(1, &density_);
+  }
+  LumisliceAtlas(const LumisliceAtlas&) = delete;
+  LumisliceAtlas& operator=(const LumisliceAtlas&) = delete;
+
+  void Bind() const {
+    glBindTextureUnit(kVrfUnit, vrf_);
+    glBindTextureUnit(kDensityUnit, density_);
+  }
+
+ private:
+  int width_ = 0, height_ = 0;
+  GLuint vrf_ = 0, density_ = 0;
+};
+
+// A colour texture and a depth texture the yarn pass reads (two framebuffers: the
+// opaque pass writes depth, the yarn pass blends into the colour without it).
+class LumisliceTarget {
+ public:
+  LumisliceTarget(int width, int height) : width_(width), height_(height) {
+    glCreateTextures(GL_TEXTURE_2D, 1, &colour_);
+    glTextureStorage2D(colour_, 1, GL_RGBA32F, width, height);
+    glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
+    glTextureStorage2D(depth_, 1, GL_DEPTH_COMPONENT32F, width, height);
+    glCreateFramebuffers(1, &opaque_);
+    glNamedFramebufferTexture(opaque_, GL_COLOR_ATTACHMENT0, colour_, 0);
+    glNamedFramebufferTexture(opaque_, GL_DEPTH_ATTACHMENT, depth_, 0);
+    glCreateFramebuffers(1, &yarn_);
+    glNamedFramebufferTexture(yarn_, GL_COLOR_ATTACHMENT0, colour_, 0);
+    for (const GLuint framebuffer : {opaque_, yarn_}) {
+      if (glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        throw Error(ErrorCode::kInternal, "lumislice renderer: framebuffer incomplete");
+      }
+    }
+  }
+  ~LumisliceTarget() {
+    glDeleteFramebuffers(1, &opaque_);
+    glDeleteFramebuffers(1, &yarn_);
+    glDeleteTextures(1, &colour_);
+    glDeleteTextures(1, &depth_);
+  }
+  LumisliceTarget(const LumisliceTarget&) = delete;
+  LumisliceTarget& operator=(const LumisliceTarget&) = delete;
+
+  void BindOpaque() const { Bind(opaque_); }
+  void BindYarn() const { Bind(yarn_); }
+  GLuint depth() const { return depth_; }
+
+  Image ReadPixels() const {
+    Image bottom_up(width_, height_, 4);
+    glGetTextureImage(colour_, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(bottom_up.pixels.size() * sizeof(float)),
+                      bottom_up.pixels.data());
+    Image image(width_, height_, 4);
+    const size_t row = static_cast<size_t>(width_) * 4;
+    for (int y = 0; y < height_; ++y) {
+      std::copy_n(bottom_up.pixels.begin() + static_cast<ptrdiff_t>(row * (height_ - 1 - y)), row,
+                  image.pixels.begin() + static_cast<ptrdiff_t>(row * y));
+    }
+    return image;
+  }
+
+ private:
+  void Bind(GLuint framebuffer) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, width_, height_);
+  }
+  int width_, height_;
+  GLuint colour_ = 0, depth_ = 0, opaque_ = 0, yarn_ = 0;
+};
+
+// How many pixels a length `size` at `position` spans on screen.
+struct PixelScale {
+  bool orthographic;
+  glm::vec3 eye;
+  float pixels_per_unit;  // orthographic: per world unit; perspective: per unit at distance 1
+  float Pixels(glm::vec3 position, float size) const {
+    return orthographic ? size * pixels_per_unit
+                        : size * pixels_per_unit / std::max(glm::distance(position, eye), 1e-6f);
+  }
+};
+
+// The level with the fewest voxels a side that are at least `pixels` (§5.2.2: 2ⁿ ≥ m);
+// level l has resolution >> l.
+int LevelFor(float pixels, int resolution, int levels) {
+  int level = 0;
+  while (level + 1 < levels && static_cast<float>(resolution >> (level + 1)) >= pixels) ++level;
+  return level;
+}
+
+}  // namespace
+
+LumisliceRenderer::LumisliceRenderer(gl::EglContext& context)
+    : context_(context),
+      yarn_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("lumislice.vert", "lumislice.frag"))),
+      opaque_program_(gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag")) {}
+
+LumisliceRenderer::~LumisliceRenderer() = default;
+
+LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes,
+                                         const std::vector<const YarnLumislices*>& yarns, uint64_t submission_seed) {
+  const Stopwatch stopwatch;
+  context_.MakeCurrent();
+  const v1::RenderSettings& settings = scene.render();
+  const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
+  const CameraMatrices camera =
+      MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
+  const bool orthographic = scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC;
+  const glm::vec3 forward = glm::normalize(ToGlm(scene.camera().target()) - ToGlm(scene.camera().position()));
+
+  // Every knit cloth's yarns: their lumislices in one atlas, their segments in one list.
+  std::vector<const Lumislice*> atlas_yarns;
+  std::vector<SortedSegment> segments;
+  LumisliceFrame frame;
+  const PixelScale scale{orthographic, camera.position,
+                         orthographic ? static_cast<float>(height) / scene.camera().ortho_height()
+                                      : static_cast<float>(height) /
+                                            (2.0f * std::tan(glm::radians(scene.camera().fov_y_degrees()) * 0.5f))};
+  int resolution = 0, levels = 0;
+  for (size_t m = 0; m < meshes.size() && m < yarns.size(); ++m) {
+    if (yarns[m] == nullptr) continue;
+    const v1::FabricSpec fabric = WithDefaults(meshes[m].object->fabric().fabric());
+    const uint32_t first_yarn = static_cast<uint32_t>(atlas_yarns.size());
+    for (const Lumislice& slice : *yarns[m]) {
+      if (resolution == 0) {
+        resolution = slice.levels.front().resolution;
+        levels = static_cast<int>(slice.levels.size());
+      }
+      if (slice.levels.front().resolution != resolution) {
+        throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: every lumislice of a frame needs the same "
+                                                 "resolution");
+      }
+      atlas_yarns.push_back(&slice);
+    }
+    if (atlas_yarns.size() > kMaxAtlasYarns) {
+      throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: at most " + std::to_string(kMaxAtlasYarns) +
+                                                   " yarns in a frame's knit cloth");
+    }
+    const KnitSkeleton skeleton = PlaceKnitSkeleton(
+        fabric, meshes[m].mesh, {meshes[m].object->fabric().repeat_u(), meshes[m].object->fabric().repeat_v()});
+    for (const SkeletonChain& chain : skeleton.chains) {
+      const size_t n = chain.points.size();
+      for (size_t i = 0; i + 1 < n; ++i) {
+        const glm::vec3 a = chain.points[i], b = chain.points[i + 1];
+        const glm::vec3 t = glm::normalize(b - a);
+        // The bisectors of the joints (a chain's ends are cut square).
+        const glm::vec3 before = i > 0 ? glm::normalize(a - chain.points[i - 1]) : t;
+        const glm::vec3 after = i + 2 < n ? glm::normalize(chain.points[i + 2] - b) : t;
+        const uint32_t yarn = chain.segment_yarn[i];
+        const float radius = 0.5f * (chain.radius[i] + chain.radius[i + 1]);
+        const Lumislice& slice = (*yarns[m])[yarn];
+        const glm::vec3 middle = 0.5f * (a + b);
+        const float pixels = scale.Pixels(middle, 2.0f * slice.section.extent() * radius);
+        const int level = LevelFor(pixels, resolution, levels);
+        SortedSegment sorted;
+        sorted.distance = orthographic ? glm::dot(middle - camera.position, forward) : glm::distance(middle, camera.position);
+        sorted.order = segments.size();
+        sorted.segment.start = glm::vec4(a, chain.turn[i]);
+        sorted.segment.end = glm::vec4(b, chain.turn[i + 1]);
+        sorted.segment.normal = glm::vec4(chain.normals[i], radius);
+        sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), static_cast<float>(level));
+        sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), static_cast<float>(first_yarn + yarn));
+        segments.push_back(sorted);
+        const float voxel = 2.0f * slice.section.extent() * radius / static_cast<float>(resolution >> level);
+        frame.slices += glm::distance(a, b) / voxel;
+        if (frame.segments_per_level.size() <= static_cast<size_t>(level)) {
+          frame.segments_per_level.resize(static_cast<size_t>(level) + 1, 0);
+        }
+        ++frame.segments_per_level[static_cast<size_t>(level)];
+      }
+    }
+  }
+  frame.segments = segments.size();
+  if (submission_seed != 0) {
+    std::mt19937_64 random(submission_seed);
+    std::shuffle(segments.begin(), segments.end(), random);
+  }
+  // Back to front; ties by the skeleton's order.
+  std::sort(segments.begin(), segments.end(), [](const SortedSegment& x, const SortedSegment& y) {
+    return x.distance != y.distance ? x.distance > y.distance : x.order < y.order;
+  });
+
+  // Plain objects: opaque, with their macro shadows; they cast the only shadow maps.
+  std::vector<std::unique_ptr<gl::MeshBuffer>> buffers;
+  std::vector<const gl::MeshBuffer*> opaque;
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    if (m < yarns.size() && yarns[m] != nullptr) continue;
+    buffers.push_back(std::make_unique<gl::MeshBuffer>(meshes[m].mesh));
+    opaque.push_back(buffers.back().get());
+  }
+  if (!shadows_ || shadows_->size() != static_cast<int>(settings.shadow_map_size())) {
+    shadows_ = std::make_unique<ShadowMaps>(static_cast<int>(settings.shadow_map_size()));
+  }
+  gl::GpuTimer timer, cloth_timer;
+  timer.Start();
+  SetUpLights(scene, SceneBoundsOf(meshes), opaque, {}, *shadows_, kDensityUnit + 1,
+              {&opaque_program_, &yarn_program_});
+
+  const LumisliceTarget target(width, height);
+  target.BindOpaque();
+  const glm::vec3 background = ToGlm(scene.background());
+  glClearColor(background.r, background.g, background.b, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glBindTextureUnit(kShadowUnit, shadows_->texture());
+  const glm::mat4 view_projection = camera.projection * camera.view;
+  opaque_program_.Use();
+  opaque_program_.Set("u_shadow_maps", kShadowUnit);
+  opaque_program_.Set("u_view_projection", view_projection);
+  opaque_program_.Set("u_ambient", ToGlm(scene.ambient()));
+  size_t b = 0;
+  for (size_t m = 0; m < meshes.size(); ++m) {
+    if (m < yarns.size() && yarns[m] != nullptr) continue;
+    opaque_program_.Set("u_base_colour", ToGlm(meshes[m].object->base_colour()));
+    buffers[b++]->Draw();
+  }
+
+  cloth_timer.Start();
+  if (!segments.empty()) {
+    const LumisliceAtlas atlas(atlas_yarns, resolution);
+    std::vector<GpuSegment> ordered(segments.size());
+    for (size_t i = 0; i < segments.size(); ++i) ordered[i] = segments[i].segment;
+    GLuint buffer = 0;
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(ordered.size() * sizeof(GpuSegment)), ordered.data(), 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+
+    target.BindYarn();
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT);  // each pixel of a box once, from its back faces
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glBindTextureUnit(kDepthUnit, target.depth());
+    atlas.Bind();
+    const gl::ShaderProgram& program = yarn_program_;
+    program.Use();
+    program.Set("u_shadow_maps", kShadowUnit);
+    program.Set("u_opaque_depth", kDepthUnit);
+    program.Set("u_vrf", kVrfUnit);
+    program.Set("u_density", kDensityUnit);
+    program.Set("u_view_projection", view_projection);
+    program.Set("u_inverse_view_projection", glm::inverse(view_projection));
+    program.Set("u_eye", camera.position);
+    program.Set("u_orthographic", orthographic ? 1 : 0);
+    program.Set("u_view_direction", forward);
+    program.Set("u_frame_size", glm::vec2(width, height));
+    program.Set("u_resolution", resolution);
+    program.Set("u_optical_density", atlas_yarns.front()->optical_density);
+    program.Set("u_ambient", ToGlm(scene.ambient()));
+    size_t y = 0;
+    for (size_t m = 0; m < meshes.size() && m < yarns.size(); ++m) {
+      if (yarns[m] == nullptr) continue;
+      const v1::FabricSpec fabric = WithDefaults(meshes[m].object->fabric().fabric());
+      for (const v1::YarnSpec& spec : fabric.yarns()) {
+        const YarnMaterial material = MakeYarnMaterial(spec);
+        const int i = static_cast<int>(y);
+        program.Set(Indexed("u_extent", i).c_str(), atlas_yarns[y]->section.extent());
+        program.Set(Indexed("u_twist_rate", i).c_str(), atlas_yarns[y]->section.twist_rate);
+        program.Set(Indexed("u_diffuse_albedo", i).c_str(), material.diffuse_albedo);
+        program.Set(Indexed("u_specular_albedo", i).c_str(), material.specular_albedo);
+        program.Set(Indexed("u_specular_exponent", i).c_str(), material.specular_exponent);
+        program.Set(Indexed("u_specular_normalisation", i).c_str(),
+                    KajiyaKayNormalisation(material.specular_exponent));
+        ++y;
+      }
+    }
+    GLuint vao = 0;
+    glCreateVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(ordered.size()));
+    glBindVertexArray(0);
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(1, &buffer);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+  }
+  cloth_timer.Stop();
+  timer.Stop();
+  frame.rendered.image = target.ReadPixels();
+  frame.rendered.gpu_ms = timer.Milliseconds();
+  frame.rendered.cloth_gpu_ms = cloth_timer.Milliseconds();
+  frame.rendered.cpu_ms = stopwatch.Milliseconds();
+  return frame;
+}
+
+}  // namespace loom

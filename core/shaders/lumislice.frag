@@ -1,0 +1,165 @@
+#version 450 core
+// The lumislice renderer's yarn (core/render/lumislice_renderer.h): the view ray
+// through one segment's part of the yarn volume, sampled every voxel of the segment's
+// level of detail (the slices, seen parallel to the viewport), each sample's voxel
+// looked up in its yarn's lumislice: density (the opacity table) at the sample's place
+// in the section turned by the twist, and per light the VRF for the light's direction
+// in the section's frame. Composited front to back within the segment:
+//   L = Σ_k T_k α_k [ambient·ρ_d + Σ_lights E (VRF_rgb + 2ρ_s N ψ^p · VRF_a)],
+//   α_k = 1 − e^{−γρ_k Δ/R},
+// as the reference's march (core/acquire/volume_radiance.h). Output premultiplied
+// (L, 1 − T) for back-to-front blending across segments.
+
+#include "lights.glsl"
+#include "lumislice_segment.glsl"
+
+flat in int v_segment;
+in vec3 v_position;
+
+uniform vec3 u_eye;
+uniform int u_orthographic;
+uniform vec3 u_view_direction;  // orthographic cameras: the direction rays travel
+uniform mat4 u_inverse_view_projection;
+uniform vec2 u_frame_size;
+uniform sampler2D u_opaque_depth;
+uniform sampler3D u_vrf;      // x: levels side by side, y: yarns, z: directions
+uniform sampler2D u_density;  // x, y as u_vrf's
+uniform int u_resolution;     // of the finest level
+uniform float u_optical_density;  // γ
+uniform vec3 u_ambient;
+
+uniform float u_twist_rate[16];      // per yarn: turn per yarn radius
+uniform vec3 u_diffuse_albedo[16];   // per yarn
+uniform vec3 u_specular_albedo[16];  // per yarn
+uniform float u_specular_exponent[16];
+uniform float u_specular_normalisation[16];
+
+layout(location = 0) out vec4 o_radiance;
+
+const int kLongitudes = 32;
+const int kAltitudes = 21;
+const int kLongitudeSpan = kLongitudes + 1;  // a longitude row repeats its first entry
+
+// Voxel (x, y) (continuous, centres at + 0.5) of `level` of `yarn` in atlas texels.
+vec2 AtlasTexel(int level, int yarn, vec2 voxel) {
+  // Level l starts after levels 0 … l − 1, each res_k + 2 texels wide (a border each side).
+  int offset = 2 * u_resolution - (2 * u_resolution >> level) + 2 * level;
+  return vec2(float(offset + 1), float(yarn * (u_resolution + 2) + 1)) + voxel;
+}
+
+vec2 Rotate(vec2 p, float angle) {
+  float c = cos(angle), s = sin(angle);
+  return vec2(c * p.x - s * p.y, s * p.x + c * p.y);
+}
+
+// A fixed per-pixel offset of the first sample in [0, 1): no banding between slices,
+// and the same frame whatever order segments arrive in.
+float PixelJitter() {
+  uvec2 p = uvec2(gl_FragCoord.xy);
+  uint h = p.x * 1973u + p.y * 9277u + 26699u;
+  h = (h ^ (h >> 13u)) * 1274126177u;
+  return float(h & 0xffffu) / 65536.0;
+}
+
+void main() {
+  Segment s = segments[v_segment];
+  SegmentFrame f = FrameOf(s);
+  int level = int(s.start_plane.w), yarn = int(s.end_plane.w);
+
+  // The ray through this pixel, parametrised from the box's back face.
+  vec3 origin = v_position;
+  vec3 direction = u_orthographic != 0 ? u_view_direction : normalize(v_position - u_eye);
+  float t_near = u_orthographic != 0 ? -1e30 : -distance(v_position, u_eye);
+  float t_far = 0.0;
+  // Inside the segment's box …
+  vec3 local_origin = vec3(dot(origin - f.origin, f.t), dot(origin - f.origin, f.n), dot(origin - f.origin, f.b));
+  vec3 local_direction = vec3(dot(direction, f.t), dot(direction, f.n), dot(direction, f.b));
+  vec3 low = vec3(-f.reach), high = vec3(f.length + f.reach, f.reach, f.reach);
+  for (int k = 0; k < 3; ++k) {
+    if (abs(local_direction[k]) < 1e-9) continue;
+    float a = (low[k] - local_origin[k]) / local_direction[k], b = (high[k] - local_origin[k]) / local_direction[k];
+    t_near = max(t_near, min(a, b));
+    t_far = min(t_far, max(a, b));
+  }
+  // … between the planes that bisect its joints …
+  vec4 planes[2] = vec4[2](vec4(s.start_plane.xyz, -dot(s.start_plane.xyz, s.start.xyz)),
+                           vec4(-s.end_plane.xyz, dot(s.end_plane.xyz, s.end.xyz)));
+  for (int k = 0; k < 2; ++k) {
+    float facing = dot(planes[k].xyz, direction), at = dot(planes[k].xyz, origin) + planes[k].w;
+    if (abs(facing) < 1e-9) {
+      if (at < 0.0) discard;
+      continue;
+    }
+    float crossing = -at / facing;
+    if (facing > 0.0) t_near = max(t_near, crossing); else t_far = min(t_far, crossing);
+  }
+  // … and in front of what is opaque.
+  float depth = texelFetch(u_opaque_depth, ivec2(gl_FragCoord.xy), 0).r;
+  if (depth < 1.0) {
+    vec4 ndc = vec4(gl_FragCoord.xy / u_frame_size * 2.0 - 1.0, depth * 2.0 - 1.0, 1.0);
+    vec4 world = u_inverse_view_projection * ndc;
+    t_far = min(t_far, dot(world.xyz / world.w - origin, direction));
+  }
+  if (t_near >= t_far) discard;
+
+  int resolution = max(u_resolution >> level, 1);
+  float extent = u_extent[yarn];
+  float step = 2.0 * extent * f.radius / float(resolution);
+  float alpha_scale = u_optical_density * step / f.radius;
+  vec3 vrf_size = vec3(textureSize(u_vrf, 0));
+  vec2 density_size = vec2(textureSize(u_density, 0));
+  float twist = u_twist_rate[yarn] / f.radius;
+  vec3 radiance = vec3(0.0);
+  float transmittance = 1.0;
+  // A bounded count (the box's diagonal in steps): llvmpipe runs a loop until every
+  // lane of its batch is done, those outside the box too.
+  float diagonal = length(vec3(f.length + 2.0 * f.reach, 2.0 * f.reach, 2.0 * f.reach));
+  float first = t_near + PixelJitter() * step;
+  int count = int(clamp(ceil((t_far - first) / step), 0.0, ceil(diagonal / step) + 1.0));
+  for (int k = 0; k < count; ++k) {
+    vec3 q = origin + (first + float(k) * step) * direction;
+    vec3 d = q - f.origin;
+    float along = dot(d, f.t);
+    float phase = mix(s.start.w, s.end.w, along / f.length);
+    vec3 offset = d - along * f.t;
+    // The section at phase 0 is the slice's turned back by the phase.
+    vec2 section = Rotate(vec2(dot(offset, f.n), dot(offset, f.b)), -phase) / f.radius;
+    if (dot(section, section) >= extent * extent) continue;
+    vec2 voxel = (section / extent + 1.0) * 0.5 * float(resolution);
+    vec2 texel = AtlasTexel(level, yarn, voxel);
+    float rho = texture(u_density, texel / density_size).r;
+    if (rho <= 0.0) continue;
+    float alpha = 1.0 - exp(-rho * alpha_scale);
+    vec3 fibre = normalize(f.t + twist * cross(f.t, offset));
+    vec3 v = -direction;
+    float cos_v = dot(fibre, v);
+    vec3 light_sum = u_ambient * u_diffuse_albedo[yarn];
+    for (int i = 0; i < u_light_count; ++i) {
+      vec3 irradiance;
+      vec3 l = LightDirection(i, q, irradiance);
+      // The light's direction in the section's frame at phase 0: longitude, altitude.
+      vec2 across = Rotate(vec2(dot(l, f.n), dot(l, f.b)), -phase);
+      float longitude = fract(atan(across.y, across.x) / (2.0 * kPi)) * float(kLongitudes);
+      float altitude = (asin(clamp(dot(l, f.t), -1.0, 1.0)) / kPi + 0.5) * float(kAltitudes - 1);
+      float a0 = min(floor(altitude), float(kAltitudes - 2));
+      float z0 = (a0 * float(kLongitudeSpan) + longitude + 0.5) / vrf_size.z;
+      vec2 xy = texel / vrf_size.xy;
+      vec4 vrf = mix(texture(u_vrf, vec3(xy, z0)), texture(u_vrf, vec3(xy, z0 + float(kLongitudeSpan) / vrf_size.z)),
+                     altitude - a0);
+      float cos_l = dot(fibre, l);
+      float psi = clamp(sqrt(max(1.0 - cos_l * cos_l, 0.0)) * sqrt(max(1.0 - cos_v * cos_v, 0.0)) - cos_l * cos_v,
+                        0.0, 1.0);
+      vec3 specular = 2.0 * u_specular_albedo[yarn] * u_specular_normalisation[yarn] *
+                      pow(psi, u_specular_exponent[yarn]) * vrf.a;
+      light_sum += irradiance * LightVisibility(i, q, l) * (vrf.rgb + specular);
+    }
+    radiance += transmittance * alpha * light_sum;
+    transmittance *= 1.0 - alpha;
+    if (transmittance < 1e-4) {
+      transmittance = 0.0;
+      break;
+    }
+  }
+  if (transmittance >= 1.0) discard;
+  o_radiance = vec4(radiance, 1.0 - transmittance);
+}
