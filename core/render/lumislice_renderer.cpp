@@ -11,6 +11,8 @@
 #include "core/gl/gpu_timer.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/render/scene_lights.h"
+#include "core/render/yarn_shadow.h"
+#include "core/scene/scene_light.h"
 #include "core/scene/camera.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
@@ -202,6 +204,8 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   // Every knit cloth's yarns: their lumislices in one atlas, their segments in one list.
   std::vector<const Lumislice*> atlas_yarns;
   std::vector<SortedSegment> segments;
+  std::vector<ShadowSegment> casters;  // the same segments, in the skeleton's order
+  uint32_t chains = 0;
   LumisliceFrame frame;
   const PixelScale scale{orthographic, camera.position,
                          orthographic ? static_cast<float>(height) / scene.camera().ortho_height()
@@ -231,6 +235,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
         fabric, meshes[m].mesh, {meshes[m].object->fabric().repeat_u(), meshes[m].object->fabric().repeat_v()});
     for (const SkeletonChain& chain : skeleton.chains) {
       const size_t n = chain.points.size();
+      float arc = 0.0f;
       for (size_t i = 0; i + 1 < n; ++i) {
         const glm::vec3 a = chain.points[i], b = chain.points[i + 1];
         const glm::vec3 t = glm::normalize(b - a);
@@ -252,6 +257,8 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
         sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), static_cast<float>(level));
         sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), static_cast<float>(first_yarn + yarn));
         segments.push_back(sorted);
+        casters.push_back({a, b, radius, first_yarn + yarn, chains, arc});
+        arc += glm::distance(a, b);
         const float voxel = 2.0f * slice.section.extent() * radius / static_cast<float>(resolution >> level);
         frame.slices += glm::distance(a, b) / voxel;
         if (frame.segments_per_level.size() <= static_cast<size_t>(level)) {
@@ -259,9 +266,24 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
         }
         ++frame.segments_per_level[static_cast<size_t>(level)];
       }
+      ++chains;
     }
   }
   frame.segments = segments.size();
+  // Eq. 10's yarn shadow per segment and directional light (1 for point lights).
+  const int light_count = std::min(scene.lights_size(), kMaxLights);
+  std::vector<std::vector<float>> yarn_shadows(static_cast<size_t>(light_count));
+  YarnShadowProfiles profiles;
+  profiles.own_chain_radii = LumisliceSettings().max_light_path;
+  for (const Lumislice* slice : atlas_yarns) {
+    profiles.profile.push_back(YarnShadowProfile(slice->section, slice->optical_density));
+    profiles.extent.push_back(slice->section.extent());
+  }
+  for (int i = 0; i < light_count; ++i) {
+    const SceneLight light = MakeSceneLight(scene.lights(i));
+    yarn_shadows[static_cast<size_t>(i)] =
+        light.directional ? YarnShadows(casters, profiles, light.vector) : std::vector<float>(casters.size(), 1.0f);
+  }
   if (submission_seed != 0) {
     std::mt19937_64 random(submission_seed);
     std::shuffle(segments.begin(), segments.end(), random);
@@ -312,11 +334,20 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   if (!segments.empty()) {
     const LumisliceAtlas atlas(atlas_yarns, resolution);
     std::vector<GpuSegment> ordered(segments.size());
-    for (size_t i = 0; i < segments.size(); ++i) ordered[i] = segments[i].segment;
-    GLuint buffer = 0;
-    glCreateBuffers(1, &buffer);
-    glNamedBufferStorage(buffer, static_cast<GLsizeiptr>(ordered.size() * sizeof(GpuSegment)), ordered.data(), 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+    std::vector<float> shadows(std::max<size_t>(segments.size() * static_cast<size_t>(light_count), 1), 1.0f);
+    for (size_t k = 0; k < segments.size(); ++k) {
+      ordered[k] = segments[k].segment;
+      for (int i = 0; i < light_count; ++i) {
+        shadows[k * static_cast<size_t>(light_count) + static_cast<size_t>(i)] =
+            yarn_shadows[static_cast<size_t>(i)][segments[k].order];
+      }
+    }
+    GLuint buffers[2] = {0, 0};
+    glCreateBuffers(2, buffers);
+    glNamedBufferStorage(buffers[0], static_cast<GLsizeiptr>(ordered.size() * sizeof(GpuSegment)), ordered.data(), 0);
+    glNamedBufferStorage(buffers[1], static_cast<GLsizeiptr>(shadows.size() * sizeof(float)), shadows.data(), 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[1]);
 
     target.BindYarn();
     glDisable(GL_DEPTH_TEST);
@@ -364,7 +395,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(ordered.size()));
     glBindVertexArray(0);
     glDeleteVertexArrays(1, &vao);
-    glDeleteBuffers(1, &buffer);
+    glDeleteBuffers(2, buffers);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
   }

@@ -8,8 +8,11 @@
 // parallel to the viewport as its slice partitioning does, in one fragment per pixel
 // and segment. Segments are blended back to front, sorted by the distance of their
 // midpoints from the eye (ties by their place in the skeleton), so the frame does not
-// depend on the order they are handed in. Objects without a fabric are drawn first
-// (opaque.frag, with their macro shadows); the yarn is cut where they stand in front.
+// depend on the order they are handed in. Light reaching a segment is dimmed by the
+// yarns between it and the light (eq. 10, core/render/yarn_shadow.h) and by plain
+// objects' shadow maps. Objects without a fabric are drawn first (opaque.frag, with
+// their macro shadows; the yarn casts none on them); the yarn is cut where they stand
+// in front.
 //
 // Level of detail (§5.2.2): a segment whose section spans m pixels takes the coarsest
 // level of at least m voxels a side, and its samples are that level's voxel apart.

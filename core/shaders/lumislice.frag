@@ -13,6 +13,9 @@
 #include "lights.glsl"
 #include "lumislice_segment.glsl"
 
+// Eq. 10's yarn shadow of segment s for light i at [s · u_light_count + i].
+layout(std430, binding = 1) readonly buffer YarnShadows { float yarn_shadow[]; };
+
 flat in int v_segment;
 in vec3 v_position;
 
@@ -151,7 +154,8 @@ void main() {
                         0.0, 1.0);
       vec3 specular = 2.0 * u_specular_albedo[yarn] * u_specular_normalisation[yarn] *
                       pow(psi, u_specular_exponent[yarn]) * vrf.a;
-      light_sum += irradiance * LightVisibility(i, q, l) * (vrf.rgb + specular);
+      float visibility = LightVisibility(i, q, l) * yarn_shadow[v_segment * u_light_count + i];
+      light_sum += irradiance * visibility * (vrf.rgb + specular);
     }
     radiance += transmittance * alpha * light_sum;
     transmittance *= 1.0 - alpha;
