@@ -84,22 +84,9 @@ Image RenderGpu(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes
 // lumislices in this process first.
 Image RenderLumislice(const v1::SceneSpec& scene, const std::vector<SceneMesh>& meshes, const GlFlags& gl,
                       int frames, nlohmann::json& figures) {
-  const Stopwatch stopwatch;
-  std::map<std::string, YarnLumislices> built;
-  std::vector<const YarnLumislices*> yarns(meshes.size(), nullptr);
-  for (size_t i = 0; i < meshes.size(); ++i) {
-    const v1::SceneObject& object = *meshes[i].object;
-    if (!object.has_fabric()) continue;
-    const v1::FabricSpec fabric = WithDefaults(object.fabric().fabric());
-    if (!fabric.has_knit()) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "objects[" + std::to_string(i) + "].fabric: lumislice renders knit fabrics only");
-    }
-    auto [at, inserted] = built.try_emplace(fabric.SerializeAsString());
-    if (inserted) at->second = BuildFabricLumislices(fabric, LumisliceSettings());
-    yarns[i] = &at->second;
-  }
-  figures["precompute_seconds"] = stopwatch.Seconds();
+  const SceneLumislices built = BuildSceneLumislices(meshes, LumisliceSettings());
+  const std::vector<const YarnLumislices*>& yarns = built.per_mesh;
+  figures["precompute_seconds"] = built.seconds;
   const auto context = MakeContext(gl);
   LumisliceRenderer renderer(*context);
   LumisliceFrame frame = renderer.Render(scene, meshes, yarns);

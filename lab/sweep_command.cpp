@@ -21,6 +21,7 @@
 #include "core/metrics/image_metrics.h"
 #include "core/plan/fabric_kind.h"
 #include "core/plan/screen_footprint.h"
+#include "core/render/lumislice_renderer.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
@@ -131,6 +132,10 @@ class Sweep {
     for (const auto& configuration : grid_.configurations) {
       if (configuration.method == v1::RENDER_METHOD_REFERENCE) {
         for (const auto& scene : grid_.scenes) MeasureReference(configuration, scene);
+      } else if (configuration.method == v1::RENDER_METHOD_LUMISLICE) {
+        for (const auto& scene : grid_.scenes) {
+          if (Pending(configuration, scene)) Guarded(configuration, {&scene}, [&] { MeasureLumislice(configuration, scene); });
+        }
       } else {
         MeasureSvbrdf(configuration);
       }
@@ -182,6 +187,38 @@ class Sweep {
       frames.gpu_ms.push_back(frame.gpu_ms);
     }
     Record(configuration, scene, configured, frames, cached);
+  }
+
+  // Builds the lumislices of the scene's knit cloth once per fabric (its time and
+  // size are the row's precompute and asset figures) and renders the scene with them.
+  void MeasureLumislice(const SweepConfiguration& configuration, const BenchScene& scene) {
+    const v1::SceneSpec configured = WithDefaults(ConfiguredScene(configuration, scene));
+    const v1::FabricSpec fabric = WithDefaults(configured.objects(0).fabric().fabric());
+    auto [at, inserted] = lumislices_.try_emplace(fabric.SerializeAsString());
+    if (inserted) {
+      const Stopwatch stopwatch;
+      at->second.slices = BuildFabricLumislices(fabric, LumisliceSettings());
+      at->second.seconds = stopwatch.Seconds();
+    }
+    CachedFabric built;
+    built.precompute_seconds = at->second.seconds;
+    built.precompute_cpu_seconds = NAN;
+    for (const Lumislice& slice : at->second.slices) built.asset_bytes += slice.StoredBytes();
+    Frames frames;
+    for (int k = 0; k < grid_.flicker_frames; ++k) {
+      const v1::SceneSpec panned = Panned(configured, k * grid_.flicker_shift_pixels);
+      const auto meshes = BuildSceneGeometry(panned, FileMeshResolver({}));
+      std::vector<const YarnLumislices*> yarns(meshes.size(), nullptr);
+      for (size_t i = 0; i < meshes.size(); ++i) {
+        if (meshes[i].object->has_fabric()) yarns[i] = &at->second.slices;
+      }
+      if (!lumislice_renderer_) lumislice_renderer_ = std::make_unique<LumisliceRenderer>(Context());
+      LumisliceFrame frame = lumislice_renderer_->Render(panned, meshes, yarns);
+      frames.images.push_back(std::move(frame.rendered.image));
+      frames.cpu_ms.push_back(frame.rendered.cpu_ms);
+      frames.gpu_ms.push_back(frame.rendered.gpu_ms);
+    }
+    Record(configuration, scene, configured, frames, built);
   }
 
   // Runs `measure`; on an Error counts `scenes` as failed rows and says why.
@@ -236,17 +273,20 @@ class Sweep {
     return ground_truth_.emplace(scene.name, ReadImage(path)).first->second;
   }
 
+  gl::EglContext& Context() {
+    if (!context_) context_ = MakeContext(gl_);
+    return *context_;
+  }
+
   GpuRenderer& Renderer() {
-    if (!renderer_) {
-      context_ = MakeContext(gl_);
-      renderer_ = std::make_unique<GpuRenderer>(*context_);
-    }
+    if (!renderer_) renderer_ = std::make_unique<GpuRenderer>(Context());
     return *renderer_;
   }
 
   void Record(const SweepConfiguration& configuration, const BenchScene& scene, const v1::SceneSpec& configured,
               const Frames& frames, const CachedFabric& precomputed) {
     const bool svbrdf = configuration.method == v1::RENDER_METHOD_SVBRDF;
+    const bool lumislice = configuration.method == v1::RENDER_METHOD_LUMISLICE;
     const ImageComparison error = CompareImages(frames.images.front(), GroundTruth(scene));
     const double flicker = frames.images.size() >= 2 ? TemporalFlicker(frames.images, 0, 0) : NAN;
     // The settings the cloth was precomputed with (a plan configuration chooses per scene).
@@ -254,7 +294,8 @@ class Sweep {
     const v1::RenderSettings& render = configured.render();
     const RenderColumns render_columns = SweepRenderColumns(render);
     const auto when_svbrdf = [svbrdf](const std::string& value) { return svbrdf ? value : std::string(); };
-    const std::string method = svbrdf ? std::string(MethodOf(precompute.method()).name()) : "reference";
+    const std::string method =
+        svbrdf ? std::string(MethodOf(precompute.method()).name()) : lumislice ? "lumislice" : "reference";
     const std::string own = svbrdf ? MethodOf(precompute.method()).OwnSettings(precompute) : std::string();
     results_.Append({configuration.name, scene.name, method, own, scene.fabric, scene.view,
                      scene.distance, Number(scene.tile_pixels), Number(FootprintPixels(configured)),
@@ -270,10 +311,10 @@ class Sweep {
                      when_svbrdf(render_columns.level_mode), when_svbrdf(render_columns.texel_filter),
                      when_svbrdf(render_columns.msaa_samples), when_svbrdf(render_columns.lod_bias),
                      when_svbrdf(render_columns.shading_rate),
-                     svbrdf ? std::string() : std::to_string(render.reference_samples()),
+                     svbrdf || lumislice ? std::string() : std::to_string(render.reference_samples()),
                      Number(precomputed.precompute_seconds), Number(precomputed.precompute_cpu_seconds),
                      std::to_string(precomputed.asset_bytes), Number(Fastest(frames.cpu_ms)),
-                     svbrdf ? Number(Fastest(frames.gpu_ms)) : std::string(), Number(error.rmse),
+                     svbrdf || lumislice ? Number(Fastest(frames.gpu_ms)) : std::string(), Number(error.rmse),
                      Number(error.psnr_db), Number(1.0 - error.ssim), Number(flicker), Number(LoadAverage())});
     ++done_;
     std::fprintf(stderr, "[%zu/%zu] %-16s %-24s PSNR %6.2f dB  1-SSIM %.4f  frame %8.1f ms\n", done_, total_,
@@ -289,6 +330,12 @@ class Sweep {
   std::map<std::string, Image> ground_truth_;
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<GpuRenderer> renderer_;
+  std::unique_ptr<LumisliceRenderer> lumislice_renderer_;
+  struct BuiltLumislices {
+    YarnLumislices slices;
+    double seconds = 0.0;
+  };
+  std::map<std::string, BuiltLumislices> lumislices_;  // by serialised fabric
   size_t done_ = 0, total_ = 0, failed_ = 0;
 };
 

@@ -124,11 +124,13 @@ SweepGrid LoadSweepGrid(const std::filesystem::path& grid_file) {
       }
       const std::string method = entry.value("method", "svbrdf");
       const FabricMethod* fabric_method = MethodNamed(method);
-      if (method != "reference" && fabric_method == nullptr) {
+      if (method != "reference" && method != "lumislice" && fabric_method == nullptr) {
         throw Error(ErrorCode::kInvalidArgument,
-                    field + ".method: '" + method + "' is not reference, " + MethodNames());
+                    field + ".method: '" + method + "' is not reference, lumislice, " + MethodNames());
       }
-      configuration.method = method == "reference" ? v1::RENDER_METHOD_REFERENCE : v1::RENDER_METHOD_SVBRDF;
+      configuration.method = method == "reference"   ? v1::RENDER_METHOD_REFERENCE
+                             : method == "lumislice" ? v1::RENDER_METHOD_LUMISLICE
+                                                     : v1::RENDER_METHOD_SVBRDF;
       configuration.precompute = Merged(base_precompute, entry, "precompute", field + ".precompute");
       // A fabric method: the GPU renders with it (precompute.method).
       if (fabric_method != nullptr) configuration.precompute.set_method(fabric_method->id());

@@ -16,6 +16,7 @@
 //       {"name": "default"},
 //       {"name": "res8", "precompute": {"spatial_resolution": 8}},
 //       {"name": "reference-16", "method": "reference", "render": {"reference_samples": 16}},
+//       {"name": "volumetric", "method": "lumislice"},   // knit scenes: lumislice renderer
 //       {"name": "lobes3-far", "precompute": {"lobes": 3}, "scenes": ["*.far"]},
 //       {"name": "plan", "plan_budget_db": 0.5}
 //     ]

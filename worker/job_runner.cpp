@@ -115,9 +115,17 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
   const v1::SceneSpec scene = WithDefaults(job.scene());
   ValidateOrThrow(scene);
   const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes);
-  const Image image = scene.render().method() == v1::RENDER_METHOD_REFERENCE
-                          ? ReferenceRenderer().Render(scene, geometry, progress).image
-                          : RenderScene(*renderer_, scene, geometry, assets).image;
+  Image image;
+  switch (scene.render().method()) {
+    case v1::RENDER_METHOD_REFERENCE: image = ReferenceRenderer().Render(scene, geometry, progress).image; break;
+    case v1::RENDER_METHOD_LUMISLICE: {
+      if (!lumislice_renderer_) lumislice_renderer_ = std::make_unique<LumisliceRenderer>(*context_);
+      const SceneLumislices lumislices = BuildSceneLumislices(geometry, LumisliceSettings());
+      image = lumislice_renderer_->Render(scene, geometry, lumislices.per_mesh).rendered.image;
+      break;
+    }
+    default: image = RenderScene(*renderer_, scene, geometry, assets).image; break;
+  }
   const bool exr = scene.render().format() == v1::IMAGE_FORMAT_EXR;
   const std::string name = exr ? "frame.exr" : "frame.png";
   const StepDirectory directory(NewScratchPath("frame"));

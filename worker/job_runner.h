@@ -18,6 +18,7 @@
 
 #include "core/gl/egl_context.h"
 #include "core/precompute/fabric_precompute.h"
+#include "core/render/lumislice_renderer.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
 #include "core/scene/scene_geometry.h"
@@ -52,7 +53,8 @@ class JobRunner {
   std::unique_ptr<FabricAsset> ReadAsset(const std::vector<NamedFile>& files);
 
   // The frame of `job`, encoded as its scene's format says (unspecified: PNG), by
-  // the scene's method: the GPU renderer on the context, or the reference ray tracer.
+  // the scene's method: the GPU renderer on the context, the lumislice renderer on it
+  // (its knit fabrics' lumislices built for the job), or the reference ray tracer.
   // `meshes` resolves uploaded mesh artifacts; for the GPU, `assets` holds every
   // fabric the scene names (core/render/scene_render.h). `progress` hears of the
   // reference's pixel rows (an svbrdf frame takes too little time to report on);
@@ -65,6 +67,7 @@ class JobRunner {
 
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<GpuRenderer> renderer_;
+  std::unique_ptr<LumisliceRenderer> lumislice_renderer_;  // made for the first lumislice job
   std::filesystem::path scratch_;
   uint64_t next_scratch_ = 0;
 };

@@ -183,6 +183,26 @@ int LevelFor(float pixels, int resolution, int levels) {
 
 }  // namespace
 
+SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings) {
+  const Stopwatch stopwatch;
+  SceneLumislices built;
+  built.per_mesh.assign(meshes.size(), nullptr);
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const v1::SceneObject& object = *meshes[i].object;
+    if (!object.has_fabric()) continue;
+    const v1::FabricSpec fabric = WithDefaults(object.fabric().fabric());
+    if (!fabric.has_knit()) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "objects[" + std::to_string(i) + "].fabric: lumislice renders knit fabrics only");
+    }
+    auto [at, inserted] = built.by_fabric.try_emplace(fabric.SerializeAsString());
+    if (inserted) at->second = BuildFabricLumislices(fabric, settings);
+    built.per_mesh[i] = &at->second;
+  }
+  built.seconds = stopwatch.Seconds();
+  return built;
+}
+
 LumisliceRenderer::LumisliceRenderer(gl::EglContext& context)
     : context_(context),
       yarn_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("lumislice.vert", "lumislice.frag"))),

@@ -19,6 +19,8 @@
 // What is left out and measured: docs/lumislice.md.
 
 #include <cstdint>
+#include <map>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -43,6 +45,16 @@ struct LumisliceFrame {
   double slices = 0.0;  // the yarn's length over each segment's voxel spacing, summed
   std::vector<size_t> segments_per_level;
 };
+
+// The lumislices of a scene's knit cloth, each distinct fabric built once; per_mesh[i]
+// null for an object without a fabric. Error(kInvalidArgument) naming the object for
+// cloth that is not knit.
+struct SceneLumislices {
+  std::map<std::string, YarnLumislices> by_fabric;  // by serialised FabricSpec
+  std::vector<const YarnLumislices*> per_mesh;
+  double seconds = 0.0;  // to build them
+};
+SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings);
 
 class LumisliceRenderer {
  public:

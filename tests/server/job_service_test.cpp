@@ -103,6 +103,21 @@ TEST_F(ServiceTest, RenderWithoutPrecomputeSettingsGetsThePlannedPrecompute) {
             planned.SerializeAsString());
 }
 
+// A lumislice render waits for no precompute: the worker builds the knit's lumislices
+// itself, and nothing lands in the fabric cache.
+TEST_F(ServiceTest, ALumisliceRenderRunsWithoutAPrecompute) {
+  StartServer();
+  client::JobClient client = Client();
+  v1::SceneSpec scene = TinyScene(32, 24);
+  scene.mutable_render()->set_method(v1::RENDER_METHOD_LUMISLICE);
+  const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
+  EXPECT_EQ(submitted.dependencies_size(), 0);
+  const v1::Job done = WaitUntilEnded(client, submitted.job().id());
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  EXPECT_EQ(done.result_artifacts_size(), 1);
+  EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+}
+
 TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
   StartServer();
   client::JobClient client = Client();

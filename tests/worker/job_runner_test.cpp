@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/image/image.h"
+#include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
@@ -47,6 +48,27 @@ TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
   std::filesystem::remove(path);
   EXPECT_EQ(image.width, 40);
   EXPECT_EQ(image.height, 30);
+}
+
+// A lumislice render needs no fitted fabric: the worker builds the knit's lumislices.
+TEST(JobRunnerTest, ALumisliceRenderBuildsItsOwnTables) {
+  JobRunner runner(gl::DefaultContextOptions());
+  v1::RenderJob render;
+  *render.mutable_scene() = server::TinyScene(48, 36);
+  render.mutable_scene()->mutable_render()->set_method(v1::RENDER_METHOD_LUMISLICE);
+  const NamedFile frame = runner.Render(render, FileMeshResolver("."), {});
+  EXPECT_EQ(frame.name, "frame.exr");
+  const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + ".exr");
+  WriteFileAtomic(path, frame.bytes);
+  const Image image = ReadImage(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(image.width, 48);
+  const v1::Rgb background = WithDefaults(server::TinyScene(48, 36)).background();
+  int yarn = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) yarn += std::abs(image.at(x, y, 0) - background.r()) > 0.02f ? 1 : 0;
+  }
+  EXPECT_GT(yarn, 48 * 36 / 10);
 }
 
 TEST(JobRunnerTest, ThrowingFromProgressCancelsAPrecompute) {
