@@ -39,6 +39,11 @@ struct SortedSegment {
   GpuSegment segment;
 };
 
+// The unit cube's triangles, counter-clockwise seen from outside; corner c is
+// (c & 1, c >> 1 & 1, c >> 2 & 1) (lumislice.vert).
+constexpr GLuint kBoxIndices[36] = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
+                                    2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+
 std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
 // Every yarn's lumislice in two textures (lumislice.frag AtlasTexel): levels side by
@@ -77,10 +82,10 @@ class LumisliceAtlas {
       }
     }
     glCreateTextures(GL_TEXTURE_3D, 1, &vrf_);
-    glTextureStorage3D(vrf_, 1, GL_RGBA16F, width_, height_, depth);
+    glTextureStorage3D(vrf_, 1, GL_RGBA8, width_, height_, depth);
     glTextureSubImage3D(vrf_, 0, 0, 0, 0, width_, height_, depth, GL_RGBA, GL_FLOAT, vrf.data());
     glCreateTextures(GL_TEXTURE_2D, 1, &density_);
-    glTextureStorage2D(density_, 1, GL_R32F, width_, height_);
+    glTextureStorage2D(density_, 1, GL_R8, width_, height_);
     glTextureSubImage2D(density_, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, density.data());
     for (const GLuint texture : {vrf_, density_}) {
       glTextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -409,12 +414,16 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
         ++y;
       }
     }
-    GLuint vao = 0;
+    GLuint vao = 0, indices = 0;
     glCreateVertexArrays(1, &vao);
+    glCreateBuffers(1, &indices);
+    glNamedBufferStorage(indices, sizeof(kBoxIndices), kBoxIndices, 0);
+    glVertexArrayElementBuffer(vao, indices);
     glBindVertexArray(vao);
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 36, static_cast<GLsizei>(ordered.size()));
+    glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(ordered.size()));
     glBindVertexArray(0);
     glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(1, &indices);
     glDeleteBuffers(2, buffers);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);

@@ -77,7 +77,7 @@ void main() {
   // Inside the segment's box …
   vec3 local_origin = vec3(dot(origin - f.origin, f.t), dot(origin - f.origin, f.n), dot(origin - f.origin, f.b));
   vec3 local_direction = vec3(dot(direction, f.t), dot(direction, f.n), dot(direction, f.b));
-  vec3 low = vec3(-f.reach), high = vec3(f.length + f.reach, f.reach, f.reach);
+  vec3 low = vec3(-2.0 * f.reach, -f.reach, -f.reach), high = vec3(f.length + 2.0 * f.reach, f.reach, f.reach);
   for (int k = 0; k < 3; ++k) {
     if (abs(local_direction[k]) < 1e-9) continue;
     float a = (low[k] - local_origin[k]) / local_direction[k], b = (high[k] - local_origin[k]) / local_direction[k];
@@ -112,6 +112,27 @@ void main() {
   vec3 vrf_size = vec3(textureSize(u_vrf, 0));
   vec2 density_size = vec2(textureSize(u_density, 0));
   float twist = u_twist_rate[yarn] / f.radius;
+  // Each light once per pixel, at the middle of the ray's way through the segment (the
+  // paper tests shadows at slice vertices): its direction, its irradiance through the
+  // shadow map and the yarn shadow, and its place in the VRF table but for the
+  // section's turn, which each sample subtracts from the longitude.
+  vec3 middle = origin + 0.5 * (t_near + t_far) * direction;
+  vec3 light_direction[kMaxLights];
+  vec3 light_irradiance[kMaxLights];
+  float light_longitude[kMaxLights];  // at phase 0, in table entries
+  float light_row[kMaxLights];        // the lower altitude row's first z texel
+  float light_altitude[kMaxLights];   // the weight of the upper row
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 irradiance;
+    vec3 l = LightDirection(i, middle, irradiance);
+    light_direction[i] = l;
+    light_irradiance[i] = irradiance * LightVisibility(i, middle, l) * yarn_shadow[v_segment * u_light_count + i];
+    light_longitude[i] = atan(dot(l, f.b), dot(l, f.n)) / (2.0 * kPi) * float(kLongitudes);
+    float altitude = (asin(clamp(dot(l, f.t), -1.0, 1.0)) / kPi + 0.5) * float(kAltitudes - 1);
+    float a0 = min(floor(altitude), float(kAltitudes - 2));
+    light_row[i] = a0 * float(kLongitudeSpan) + 0.5;
+    light_altitude[i] = altitude - a0;
+  }
   vec3 radiance = vec3(0.0);
   float transmittance = 1.0;
   // A bounded count (the box's diagonal in steps): llvmpipe runs a loop until every
@@ -119,6 +140,7 @@ void main() {
   float diagonal = length(vec3(f.length + 2.0 * f.reach, 2.0 * f.reach, 2.0 * f.reach));
   float first = t_near + PixelJitter() * step;
   int count = int(clamp(ceil((t_far - first) / step), 0.0, ceil(diagonal / step) + 1.0));
+  vec3 v = -direction;
   for (int k = 0; k < count; ++k) {
     vec3 q = origin + (first + float(k) * step) * direction;
     vec3 d = q - f.origin;
@@ -134,28 +156,21 @@ void main() {
     if (rho <= 0.0) continue;
     float alpha = 1.0 - exp(-rho * alpha_scale);
     vec3 fibre = normalize(f.t + twist * cross(f.t, offset));
-    vec3 v = -direction;
     float cos_v = dot(fibre, v);
     vec3 light_sum = u_ambient * u_diffuse_albedo[yarn];
+    vec2 xy = texel / vrf_size.xy;
+    float turn = phase / (2.0 * kPi) * float(kLongitudes);
     for (int i = 0; i < u_light_count; ++i) {
-      vec3 irradiance;
-      vec3 l = LightDirection(i, q, irradiance);
-      // The light's direction in the section's frame at phase 0: longitude, altitude.
-      vec2 across = Rotate(vec2(dot(l, f.n), dot(l, f.b)), -phase);
-      float longitude = fract(atan(across.y, across.x) / (2.0 * kPi)) * float(kLongitudes);
-      float altitude = (asin(clamp(dot(l, f.t), -1.0, 1.0)) / kPi + 0.5) * float(kAltitudes - 1);
-      float a0 = min(floor(altitude), float(kAltitudes - 2));
-      float z0 = (a0 * float(kLongitudeSpan) + longitude + 0.5) / vrf_size.z;
-      vec2 xy = texel / vrf_size.xy;
+      float longitude = mod(light_longitude[i] - turn, float(kLongitudes));
+      float z0 = (light_row[i] + longitude) / vrf_size.z;
       vec4 vrf = mix(texture(u_vrf, vec3(xy, z0)), texture(u_vrf, vec3(xy, z0 + float(kLongitudeSpan) / vrf_size.z)),
-                     altitude - a0);
-      float cos_l = dot(fibre, l);
+                     light_altitude[i]);
+      float cos_l = dot(fibre, light_direction[i]);
       float psi = clamp(sqrt(max(1.0 - cos_l * cos_l, 0.0)) * sqrt(max(1.0 - cos_v * cos_v, 0.0)) - cos_l * cos_v,
                         0.0, 1.0);
       vec3 specular = 2.0 * u_specular_albedo[yarn] * u_specular_normalisation[yarn] *
                       pow(psi, u_specular_exponent[yarn]) * vrf.a;
-      float visibility = LightVisibility(i, q, l) * yarn_shadow[v_segment * u_light_count + i];
-      light_sum += irradiance * visibility * (vrf.rgb + specular);
+      light_sum += light_irradiance[i] * (vrf.rgb + specular);
     }
     radiance += transmittance * alpha * light_sum;
     transmittance *= 1.0 - alpha;
