@@ -83,6 +83,15 @@ void WriteLumisliceImages(const Lumislice& slice, const std::filesystem::path& d
   WriteImage(vrf, directory / "level0_vrf.png");
 }
 
+// The fabric's yarn `index` (--yarn), or an error saying how many it has.
+const v1::YarnSpec& YarnAt(const v1::FabricSpec& fabric, int index) {
+  if (index >= fabric.yarns_size()) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "--yarn " + std::to_string(index) + ": the fabric has " + std::to_string(fabric.yarns_size()) + " yarns");
+  }
+  return fabric.yarns(index);
+}
+
 uintmax_t DirectoryBytes(const std::filesystem::path& directory) {
   uintmax_t bytes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(directory)) {
@@ -152,11 +161,7 @@ LabCommand AddYarnSectionCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             const v1::FabricSpec fabric = WithDefaults(LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric"));
             ThrowIfAny(Validate(fabric));
-            if (options->yarn >= fabric.yarns_size()) {
-              throw Error(ErrorCode::kInvalidArgument, "--yarn " + std::to_string(options->yarn) + ": the fabric has " +
-                                                           std::to_string(fabric.yarns_size()) + " yarns");
-            }
-            const YarnSection section = MakeYarnSection(fabric.yarns(options->yarn));
+            const YarnSection section = MakeYarnSection(YarnAt(fabric, options->yarn));
             const int side = options->resolution;
             const std::vector<float> density = SectionDensityGrid(section, side);
             const bool png = FormatFromPath(options->out) == ImageFileFormat::kPng;
@@ -207,11 +212,7 @@ LabCommand AddLumisliceCommand(CLI::App& app, const LabFlags& flags) {
   return {command, [&flags, options] {
             const v1::FabricSpec fabric = WithDefaults(LoadSpecFile<v1::FabricSpec>(options->fabric, "fabric"));
             ThrowIfAny(Validate(fabric));
-            if (options->yarn >= fabric.yarns_size()) {
-              throw Error(ErrorCode::kInvalidArgument, "--yarn " + std::to_string(options->yarn) + ": the fabric has " +
-                                                           std::to_string(fabric.yarns_size()) + " yarns");
-            }
-            const v1::YarnSpec& yarn = fabric.yarns(options->yarn);
+            const v1::YarnSpec& yarn = YarnAt(fabric, options->yarn);
             const Stopwatch stopwatch;
             Lumislice slice;
             {

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "core/util/error.h"
+#include "core/util/vector_math.h"
 
 namespace loom {
 namespace {
@@ -17,11 +18,6 @@ constexpr int kMaxGridCells = 96;
 constexpr float kCellsPerModelUnit = 48.0f;
 // March steps per radius of the thinnest ply.
 constexpr float kStepsPerPlyRadius = 6.0f;
-
-glm::vec3 AnyPerpendicular(glm::vec3 t) {
-  const glm::vec3 axis = std::abs(t.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-  return glm::normalize(glm::cross(glm::cross(t, axis), t));
-}
 
 }  // namespace
 

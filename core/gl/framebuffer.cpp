@@ -87,13 +87,7 @@ Image Framebuffer::ReadPixels() const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
 
   // GL's origin is the bottom-left corner; images are stored top row first.
-  Image image(width_, height_, 4);
-  const size_t row = static_cast<size_t>(width_) * 4;
-  for (int y = 0; y < height_; ++y) {
-    std::copy_n(bottom_up.pixels.begin() + static_cast<ptrdiff_t>(row * (height_ - 1 - y)), row,
-                image.pixels.begin() + static_cast<ptrdiff_t>(row * y));
-  }
-  return image;
+  return FlippedRows(bottom_up);
 }
 
 }  // namespace loom::gl

@@ -99,4 +99,14 @@ Image ReadImage(const std::filesystem::path& path) {
   return image;
 }
 
+Image FlippedRows(const Image& image) {
+  Image flipped(image.width, image.height, image.channels);
+  const size_t row = static_cast<size_t>(image.width) * image.channels;
+  for (int y = 0; y < image.height; ++y) {
+    std::copy_n(image.pixels.begin() + static_cast<ptrdiff_t>(row * (image.height - 1 - y)), row,
+                flipped.pixels.begin() + static_cast<ptrdiff_t>(row * y));
+  }
+  return flipped;
+}
+
 }  // namespace loom

@@ -23,6 +23,10 @@ struct Image {
   float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
 };
 
+// `image` with its rows in the opposite order: GL reads the bottom row first, images
+// are stored top row first.
+Image FlippedRows(const Image& image);
+
 enum class ImageFileFormat { kPng, kExr };
 
 // From the file extension (.png, .exr); throws Error(kInvalidArgument) otherwise.

@@ -6,17 +6,13 @@
 
 #include "core/fabric/knit_tile.h"
 #include "core/fabric/yarn_section.h"
+#include "core/util/vector_math.h"
 
 namespace loom {
 namespace {
 
 // Spline samples between a course's key points: as many as the tile's tubes have.
 constexpr int kSamplesPerSegment = 8;
-
-glm::vec3 AnyPerpendicular(glm::vec3 t) {
-  const glm::vec3 axis = std::abs(t.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-  return glm::normalize(glm::cross(glm::cross(t, axis), t));
-}
 
 // The mesh's triangles in tile space (uv·repeat), found through a uniform grid.
 class TileSpaceTriangles {

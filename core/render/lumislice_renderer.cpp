@@ -149,13 +149,7 @@ class LumisliceTarget {
     Image bottom_up(width_, height_, 4);
     glGetTextureImage(colour_, 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(bottom_up.pixels.size() * sizeof(float)),
                       bottom_up.pixels.data());
-    Image image(width_, height_, 4);
-    const size_t row = static_cast<size_t>(width_) * 4;
-    for (int y = 0; y < height_; ++y) {
-      std::copy_n(bottom_up.pixels.begin() + static_cast<ptrdiff_t>(row * (height_ - 1 - y)), row,
-                  image.pixels.begin() + static_cast<ptrdiff_t>(row * y));
-    }
-    return image;
+    return FlippedRows(bottom_up);
   }
 
  private:
@@ -178,11 +172,16 @@ struct PixelScale {
   }
 };
 
-// The level with the fewest voxels a side that are at least `pixels` (§5.2.2: 2ⁿ ≥ m);
-// level l has resolution >> l.
+// The level with the fewest voxels a side that are at least kLevelOversampling ×
+// `pixels` (the paper's §5.2.2 takes 2ⁿ ≥ m, kLevelOversampling 1); level l has
+// resolution >> l. Coarse levels average a section's lit and unlit sides into one
+// colour, which a view of the lit side does not see: docs/lumislice.md measures it.
+constexpr float kLevelOversampling = 4.0f;
 int LevelFor(float pixels, int resolution, int levels) {
   int level = 0;
-  while (level + 1 < levels && static_cast<float>(resolution >> (level + 1)) >= pixels) ++level;
+  while (level + 1 < levels && static_cast<float>(resolution >> (level + 1)) >= kLevelOversampling * pixels) {
+    ++level;
+  }
   return level;
 }
 
@@ -237,6 +236,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
                                       : static_cast<float>(height) /
                                             (2.0f * std::tan(glm::radians(scene.camera().fov_y_degrees()) * 0.5f))};
   int resolution = 0, levels = 0;
+  const int lod_bias = static_cast<int>(std::lround(settings.lod_bias()));
   for (size_t m = 0; m < meshes.size() && m < yarns.size(); ++m) {
     if (yarns[m] == nullptr) continue;
     const v1::FabricSpec fabric = WithDefaults(meshes[m].object->fabric().fabric());
@@ -272,7 +272,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
         const Lumislice& slice = (*yarns[m])[yarn];
         const glm::vec3 middle = 0.5f * (a + b);
         const float pixels = scale.Pixels(middle, 2.0f * slice.section.extent() * radius);
-        const int level = LevelFor(pixels, resolution, levels);
+        const int level = std::clamp(LevelFor(pixels, resolution, levels) + lod_bias, 0, levels - 1);
         SortedSegment sorted;
         sorted.distance = orthographic ? glm::dot(middle - camera.position, forward) : glm::distance(middle, camera.position);
         sorted.order = segments.size();
@@ -371,9 +371,6 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     glCreateBuffers(2, buffers);
     glNamedBufferStorage(buffers[0], static_cast<GLsizeiptr>(ordered.size() * sizeof(GpuSegment)), ordered.data(), 0);
     glNamedBufferStorage(buffers[1], static_cast<GLsizeiptr>(shadows.size() * sizeof(float)), shadows.data(), 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffers[0]);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, buffers[1]);
-
     target.BindYarn();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_CULL_FACE);
@@ -420,7 +417,22 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     glNamedBufferStorage(indices, sizeof(kBoxIndices), kBoxIndices, 0);
     glVertexArrayElementBuffer(vao, indices);
     glBindVertexArray(vao);
-    glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(ordered.size()));
+    // In batches that fit a shader storage block (llvmpipe's holds 128 MiB), each a
+    // multiple of 256 segments so that both ranges keep their offset alignment.
+    GLint block = 0;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    const size_t per_segment = std::max(sizeof(GpuSegment), sizeof(float) * std::max(light_count, 1));
+    const size_t batch = std::max<size_t>(static_cast<size_t>(block) / per_segment / 256 * 256, 256);
+    const size_t lights = static_cast<size_t>(std::max(light_count, 1));
+    for (size_t first = 0; first < ordered.size(); first += batch) {
+      const size_t count = std::min(batch, ordered.size() - first);
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, buffers[0], static_cast<GLintptr>(first * sizeof(GpuSegment)),
+                        static_cast<GLsizeiptr>(count * sizeof(GpuSegment)));
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, buffers[1],
+                        static_cast<GLintptr>(first * lights * sizeof(float)),
+                        static_cast<GLsizeiptr>(count * lights * sizeof(float)));
+      glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(count));
+    }
     glBindVertexArray(0);
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(1, &indices);

@@ -15,7 +15,8 @@
 // in front.
 //
 // Level of detail (§5.2.2): a segment whose section spans m pixels takes the coarsest
-// level of at least m voxels a side, and its samples are that level's voxel apart.
+// level of at least 4m voxels a side (the paper: m), plus render.lod_bias levels
+// rounded (2: the paper's choice), and its samples are about that level's voxel apart.
 // What is left out and measured: docs/lumislice.md.
 
 #include <cstdint>

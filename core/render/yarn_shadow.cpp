@@ -4,16 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/util/vector_math.h"
+
 namespace loom {
 namespace {
 
 constexpr int kProfilePhases = 16;
 constexpr int kChordSteps = 256;
-
-glm::vec3 AnyPerpendicular(glm::vec3 t) {
-  const glm::vec3 axis = std::abs(t.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
-  return glm::normalize(glm::cross(glm::cross(t, axis), t));
-}
 
 }  // namespace
 
@@ -59,8 +56,11 @@ std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const
   }
   low -= reach;
   high += reach;
-  const float cell = std::max(reach, 1e-6f);
-  const glm::ivec2 size = glm::clamp(glm::ivec2((high - low) / cell) + 1, glm::ivec2(1), glm::ivec2(4096));
+  // Cells of at least a reach (a point's shadowing yarns are in its own cell), and
+  // about as many as segments.
+  const float side = std::ceil(std::sqrt(static_cast<float>(segments.size())));
+  const float cell = std::max({reach, (high.x - low.x) / side, (high.y - low.y) / side, 1e-6f});
+  const glm::ivec2 size = glm::ivec2((high - low) / cell) + 1;
   const auto cell_of = [&](glm::vec2 p) {
     return glm::clamp(glm::ivec2((p - low) / cell), glm::ivec2(0), size - 1);
   };

@@ -1,7 +1,7 @@
 #version 450 core
 // The lumislice renderer's yarn (core/render/lumislice_renderer.h): the view ray
-// through one segment's part of the yarn volume, sampled every voxel of the segment's
-// level of detail (the slices, seen parallel to the viewport), each sample's voxel
+// through one segment's part of the yarn volume, sampled about every voxel of the
+// segment's level of detail (the slices, seen parallel to the viewport), each sample's voxel
 // looked up in its yarn's lumislice: density (the opacity table) at the sample's place
 // in the section turned by the twist, and per light the VRF for the light's direction
 // in the section's frame. Composited front to back within the segment:
@@ -55,15 +55,6 @@ vec2 Rotate(vec2 p, float angle) {
   return vec2(c * p.x - s * p.y, s * p.x + c * p.y);
 }
 
-// A fixed per-pixel offset of the first sample in [0, 1): no banding between slices,
-// and the same frame whatever order segments arrive in.
-float PixelJitter() {
-  uvec2 p = uvec2(gl_FragCoord.xy);
-  uint h = p.x * 1973u + p.y * 9277u + 26699u;
-  h = (h ^ (h >> 13u)) * 1274126177u;
-  return float(h & 0xffffu) / 65536.0;
-}
-
 void main() {
   Segment s = segments[v_segment];
   SegmentFrame f = FrameOf(s);
@@ -74,15 +65,20 @@ void main() {
   vec3 direction = u_orthographic != 0 ? u_view_direction : normalize(v_position - u_eye);
   float t_near = u_orthographic != 0 ? -1e30 : -distance(v_position, u_eye);
   float t_far = 0.0;
-  // Inside the segment's box …
+  // Inside the yarn's cylinder about the segment's axis (every sample then lies in the
+  // section's disk, however few the samples) …
   vec3 local_origin = vec3(dot(origin - f.origin, f.t), dot(origin - f.origin, f.n), dot(origin - f.origin, f.b));
   vec3 local_direction = vec3(dot(direction, f.t), dot(direction, f.n), dot(direction, f.b));
-  vec3 low = vec3(-2.0 * f.reach, -f.reach, -f.reach), high = vec3(f.length + 2.0 * f.reach, f.reach, f.reach);
-  for (int k = 0; k < 3; ++k) {
-    if (abs(local_direction[k]) < 1e-9) continue;
-    float a = (low[k] - local_origin[k]) / local_direction[k], b = (high[k] - local_origin[k]) / local_direction[k];
-    t_near = max(t_near, min(a, b));
-    t_far = min(t_far, max(a, b));
+  float a = dot(local_direction.yz, local_direction.yz);
+  if (a < 1e-12) {
+    if (dot(local_origin.yz, local_origin.yz) >= f.reach * f.reach) discard;
+  } else {
+    float b = dot(local_origin.yz, local_direction.yz), c = dot(local_origin.yz, local_origin.yz) - f.reach * f.reach;
+    float discriminant = b * b - a * c;
+    if (discriminant <= 0.0) discard;
+    float root = sqrt(discriminant);
+    t_near = max(t_near, (-b - root) / a);
+    t_far = min(t_far, (-b + root) / a);
   }
   // … between the planes that bisect its joints …
   vec4 planes[2] = vec4[2](vec4(s.start_plane.xyz, -dot(s.start_plane.xyz, s.start.xyz)),
@@ -108,7 +104,6 @@ void main() {
   int resolution = max(u_resolution >> level, 1);
   float extent = u_extent[yarn];
   float step = 2.0 * extent * f.radius / float(resolution);
-  float alpha_scale = u_optical_density * step / f.radius;
   vec3 vrf_size = vec3(textureSize(u_vrf, 0));
   vec2 density_size = vec2(textureSize(u_density, 0));
   float twist = u_twist_rate[yarn] / f.radius;
@@ -135,14 +130,17 @@ void main() {
   }
   vec3 radiance = vec3(0.0);
   float transmittance = 1.0;
-  // A bounded count (the box's diagonal in steps): llvmpipe runs a loop until every
-  // lane of its batch is done, those outside the box too.
-  float diagonal = length(vec3(f.length + 2.0 * f.reach, 2.0 * f.reach, 2.0 * f.reach));
-  float first = t_near + PixelJitter() * step;
-  int count = int(clamp(ceil((t_far - first) / step), 0.0, ceil(diagonal / step) + 1.0));
+  // The ray's way through the segment in equal steps of at most a voxel, sampled at
+  // their middles: a way shorter than a voxel (a coarse level, a short segment) still
+  // gets its sample, with its own length. The count is bounded by the box's diagonal:
+  // llvmpipe runs a loop until every lane of its batch is done, those outside the box too.
+  float diagonal = length(vec3(f.length + 4.0 * f.reach, 2.0 * f.reach, 2.0 * f.reach));
+  int count = int(clamp(ceil((t_far - t_near) / step), 1.0, ceil(diagonal / step) + 1.0));
+  float h = (t_far - t_near) / float(count);
+  float alpha_scale = u_optical_density * h / f.radius;
   vec3 v = -direction;
   for (int k = 0; k < count; ++k) {
-    vec3 q = origin + (first + float(k) * step) * direction;
+    vec3 q = origin + (t_near + (float(k) + 0.5) * h) * direction;
     vec3 d = q - f.origin;
     float along = dot(d, f.t);
     float phase = mix(s.start.w, s.end.w, along / f.length);
@@ -150,7 +148,9 @@ void main() {
     // The section at phase 0 is the slice's turned back by the phase.
     vec2 section = Rotate(vec2(dot(offset, f.n), dot(offset, f.b)), -phase) / f.radius;
     if (dot(section, section) >= extent * extent) continue;
-    vec2 voxel = (section / extent + 1.0) * 0.5 * float(resolution);
+    // Kept half a voxel inside the level, so that filtering never reads its empty border
+    // (at 1×1 it would dilute the one voxel by up to four).
+    vec2 voxel = clamp((section / extent + 1.0) * 0.5 * float(resolution), vec2(0.5), vec2(float(resolution) - 0.5));
     vec2 texel = AtlasTexel(level, yarn, voxel);
     float rho = texture(u_density, texel / density_size).r;
     if (rho <= 0.0) continue;

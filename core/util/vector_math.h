@@ -14,4 +14,10 @@ inline glm::vec3 SafeNormalize(glm::vec3 v, glm::vec3 fallback) {
   return length2 > 1e-24f && std::isfinite(length2) ? v / std::sqrt(length2) : fallback;
 }
 
+// A unit vector perpendicular to unit `t`.
+inline glm::vec3 AnyPerpendicular(glm::vec3 t) {
+  const glm::vec3 axis = std::abs(t.z) < 0.9f ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+  return glm::normalize(glm::cross(glm::cross(t, axis), t));
+}
+
 }  // namespace loom

@@ -25,6 +25,15 @@ v1::PrecomputeJob TinyPrecompute() {
   return job;
 }
 
+// A frame's file decoded (through a temporary file named like it).
+Image Decoded(const NamedFile& frame) {
+  const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + "-" + frame.name);
+  WriteFileAtomic(path, frame.bytes);
+  Image image = ReadImage(path);
+  std::filesystem::remove(path);
+  return image;
+}
+
 TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
   JobRunner runner(gl::DefaultContextOptions());
   const std::string key = FabricKey(server::KnitFabric(), server::TinySettings());
@@ -42,10 +51,7 @@ TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
   render.mutable_scene()->mutable_render()->clear_format();  // unspecified: PNG
   const NamedFile frame = runner.Render(render, FileMeshResolver("."), {{key, asset.get()}});
   EXPECT_EQ(frame.name, "frame.png");
-  const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + ".png");
-  WriteFileAtomic(path, frame.bytes);
-  const Image image = ReadImage(path);
-  std::filesystem::remove(path);
+  const Image image = Decoded(frame);
   EXPECT_EQ(image.width, 40);
   EXPECT_EQ(image.height, 30);
 }
@@ -58,10 +64,7 @@ TEST(JobRunnerTest, ALumisliceRenderBuildsItsOwnTables) {
   render.mutable_scene()->mutable_render()->set_method(v1::RENDER_METHOD_LUMISLICE);
   const NamedFile frame = runner.Render(render, FileMeshResolver("."), {});
   EXPECT_EQ(frame.name, "frame.exr");
-  const auto path = std::filesystem::temp_directory_path() / ("job-runner-test-" + std::to_string(::getpid()) + ".exr");
-  WriteFileAtomic(path, frame.bytes);
-  const Image image = ReadImage(path);
-  std::filesystem::remove(path);
+  const Image image = Decoded(frame);
   ASSERT_EQ(image.width, 48);
   const v1::Rgb background = WithDefaults(server::TinyScene(48, 36)).background();
   int yarn = 0;
