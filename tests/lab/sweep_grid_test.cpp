@@ -51,7 +51,7 @@ TEST(SweepGrid, BadGridsAreRejectedNamingTheField) {
             std::string::npos);
   EXPECT_NE(GridError("{\"name\": \"a\", \"precompute\": {\"lobes\": 4}}").find("lobes: 4 exceeds 3"),
             std::string::npos);
-  EXPECT_NE(GridError("{\"name\": \"a\", \"method\": \"lumislice\"}").find("is not reference, svbrdf, tabulated, factored, neural"),
+  EXPECT_NE(GridError("{\"name\": \"a\", \"method\": \"tiled\"}").find("is not reference, lumislice, svbrdf, tabulated, factored, neural"),
             std::string::npos);
   EXPECT_NE(GridError("{\"name\": \"a\"}, {\"name\": \"a\"}").find("used twice"), std::string::npos);
   EXPECT_NE(GridError("{\"name\": \"a\", \"colour\": 1}").find("configurations[a].colour: unknown field"),
