@@ -48,6 +48,11 @@ class ShaderProgram {
   void Set(const char* name, const glm::vec4& value) const;
   void Set(const char* name, const glm::mat3& value) const;
   void Set(const char* name, const glm::mat4& value) const;
+  // Element `index` of the uniform array `name`.
+  template <typename T>
+  void Set(const char* name, int index, const T& value) const {
+    Set((std::string(name) + "[" + std::to_string(index) + "]").c_str(), value);
+  }
 
  private:
   explicit ShaderProgram(GLuint program) : program_(program) {}

@@ -30,7 +30,7 @@ constexpr int kLongitudeSpan = kLumisliceLongitudes + 1;
 
 // One segment as lumislice_segment.glsl reads it.
 struct GpuSegment {
-  glm::vec4 start, end, normal, start_plane, end_plane;
+  glm::vec4 start, end, normal, start_plane, end_plane, shading;
 };
 
 struct SortedSegment {
@@ -43,8 +43,6 @@ struct SortedSegment {
 // (c & 1, c >> 1 & 1, c >> 2 & 1) (lumislice.vert).
 constexpr GLuint kBoxIndices[36] = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
                                     2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
-
-std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
 // Every yarn's lumislice in two textures (lumislice.frag AtlasTexel): levels side by
 // side in x, each with a border of empty voxels, yarns stacked in y; the VRF's
@@ -173,16 +171,40 @@ struct PixelScale {
 };
 
 // The level with the fewest voxels a side that are at least kLevelOversampling ×
-// `pixels` (the paper's §5.2.2 takes 2ⁿ ≥ m, kLevelOversampling 1); level l has
-// resolution >> l. Coarse levels average a section's lit and unlit sides into one
-// colour, which a view of the lit side does not see: docs/lumislice.md measures it.
-constexpr float kLevelOversampling = 4.0f;
+// `pixels` (the paper's §5.2.2 takes 2ⁿ ≥ m, kLevelOversampling 1), and at least
+// kMinLevelResolution; level l has resolution >> l. Coarse levels average a section's
+// lit and unlit sides into one colour, which a view of the lit side does not see:
+// docs/lumislice.md measures it.
+constexpr float kLevelOversampling = 2.0f;
+constexpr float kMinLevelResolution = 8.0f;
 int LevelFor(float pixels, int resolution, int levels) {
   int level = 0;
-  while (level + 1 < levels && static_cast<float>(resolution >> (level + 1)) >= kLevelOversampling * pixels) {
+  while (level + 1 < levels &&
+         static_cast<float>(resolution >> (level + 1)) >= std::max(kLevelOversampling * pixels, kMinLevelResolution)) {
     ++level;
   }
   return level;
+}
+
+// Far away a chain's points are closer than a pixel; the segments drawn are at least
+// kMinSegmentPixels long: the indices of the points kept (both ends, every change of
+// yarn, and the first point at least `min_length(point)` from the last kept).
+constexpr float kMinSegmentPixels = 1.0f;
+constexpr float kMinYarnPixels = 1.0f;
+template <typename MinLength>
+std::vector<size_t> KeptPoints(const SkeletonChain& chain, const MinLength& min_length) {
+  std::vector<size_t> kept;
+  const size_t n = chain.points.size();
+  if (n == 0) return kept;
+  kept.push_back(0);
+  for (size_t i = 1; i < n; ++i) {
+    const glm::vec3 last = chain.points[kept.back()];
+    if (i + 1 == n || chain.segment_yarn[i] != chain.segment_yarn[i - 1] ||
+        glm::distance(chain.points[i], last) >= min_length(last)) {
+      kept.push_back(i);
+    }
+  }
+  return kept;
 }
 
 }  // namespace
@@ -259,32 +281,39 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     const KnitSkeleton skeleton = PlaceKnitSkeleton(
         fabric, meshes[m].mesh, {meshes[m].object->fabric().repeat_u(), meshes[m].object->fabric().repeat_v()});
     for (const SkeletonChain& chain : skeleton.chains) {
-      const size_t n = chain.points.size();
+      const std::vector<size_t> kept =
+          KeptPoints(chain, [&](glm::vec3 p) { return kMinSegmentPixels / scale.Pixels(p, 1.0f); });
+      const size_t n = kept.size();
       float arc = 0.0f;
       for (size_t i = 0; i + 1 < n; ++i) {
-        const glm::vec3 a = chain.points[i], b = chain.points[i + 1];
+        const glm::vec3 a = chain.points[kept[i]], b = chain.points[kept[i + 1]];
         const glm::vec3 t = glm::normalize(b - a);
         // The bisectors of the joints (a chain's ends are cut square).
-        const glm::vec3 before = i > 0 ? glm::normalize(a - chain.points[i - 1]) : t;
-        const glm::vec3 after = i + 2 < n ? glm::normalize(chain.points[i + 2] - b) : t;
-        const uint32_t yarn = chain.segment_yarn[i];
-        const float radius = 0.5f * (chain.radius[i] + chain.radius[i + 1]);
+        const glm::vec3 before = i > 0 ? glm::normalize(a - chain.points[kept[i - 1]]) : t;
+        const glm::vec3 after = i + 2 < n ? glm::normalize(chain.points[kept[i + 2]] - b) : t;
+        const uint32_t yarn = chain.segment_yarn[kept[i]];
+        const float radius = 0.5f * (chain.radius[kept[i]] + chain.radius[kept[i + 1]]);
         const Lumislice& slice = (*yarns[m])[yarn];
         const glm::vec3 middle = 0.5f * (a + b);
+        // A section narrower than kMinYarnPixels is drawn that wide, its opacity scaled
+        // by the part of it the yarn covers.
         const float pixels = scale.Pixels(middle, 2.0f * slice.section.extent() * radius);
-        const int level = std::clamp(LevelFor(pixels, resolution, levels) + lod_bias, 0, levels - 1);
+        const float widening = std::max(kMinYarnPixels / std::max(pixels, 1e-6f), 1.0f);
+        const int level = std::clamp(LevelFor(pixels * widening, resolution, levels) + lod_bias, 0, levels - 1);
         SortedSegment sorted;
         sorted.distance = orthographic ? glm::dot(middle - camera.position, forward) : glm::distance(middle, camera.position);
         sorted.order = segments.size();
-        sorted.segment.start = glm::vec4(a, chain.turn[i]);
-        sorted.segment.end = glm::vec4(b, chain.turn[i + 1]);
-        sorted.segment.normal = glm::vec4(chain.normals[i], radius);
-        sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), static_cast<float>(level));
-        sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), static_cast<float>(first_yarn + yarn));
+        sorted.segment.start = glm::vec4(a, chain.turn[kept[i]]);
+        sorted.segment.end = glm::vec4(b, chain.turn[kept[i + 1]]);
+        sorted.segment.normal = glm::vec4(chain.normals[kept[i]], radius * widening);
+        sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), 0.0f);
+        sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), 0.0f);
+        sorted.segment.shading = glm::vec4(1.0f / widening, static_cast<float>(level),
+                                           static_cast<float>(first_yarn + yarn), 0.0f);
         segments.push_back(sorted);
         casters.push_back({a, b, radius, first_yarn + yarn, chains, arc});
         arc += glm::distance(a, b);
-        const float voxel = 2.0f * slice.section.extent() * radius / static_cast<float>(resolution >> level);
+        const float voxel = 2.0f * slice.section.extent() * radius * widening / static_cast<float>(resolution >> level);
         frame.slices += glm::distance(a, b) / voxel;
         if (frame.segments_per_level.size() <= static_cast<size_t>(level)) {
           frame.segments_per_level.resize(static_cast<size_t>(level) + 1, 0);
@@ -295,19 +324,17 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     }
   }
   frame.segments = segments.size();
-  // Eq. 10's yarn shadow per segment and directional light (1 for point lights).
+  // Eq. 10's yarn shadow per segment and light.
   const int light_count = std::min(scene.lights_size(), kMaxLights);
   std::vector<std::vector<float>> yarn_shadows(static_cast<size_t>(light_count));
   YarnShadowProfiles profiles;
   profiles.own_chain_radii = LumisliceSettings().max_light_path;
   for (const Lumislice* slice : atlas_yarns) {
-    profiles.profile.push_back(YarnShadowProfile(slice->section, slice->optical_density));
+    profiles.profile.push_back(slice->shadow_profile);
     profiles.extent.push_back(slice->section.extent());
   }
   for (int i = 0; i < light_count; ++i) {
-    const SceneLight light = MakeSceneLight(scene.lights(i));
-    yarn_shadows[static_cast<size_t>(i)] =
-        light.directional ? YarnShadows(casters, profiles, light.vector) : std::vector<float>(casters.size(), 1.0f);
+    yarn_shadows[static_cast<size_t>(i)] = YarnShadows(casters, profiles, MakeSceneLight(scene.lights(i)));
   }
   if (submission_seed != 0) {
     std::mt19937_64 random(submission_seed);
@@ -401,12 +428,12 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
       for (const v1::YarnSpec& spec : fabric.yarns()) {
         const YarnMaterial material = MakeYarnMaterial(spec);
         const int i = static_cast<int>(y);
-        program.Set(Indexed("u_extent", i).c_str(), atlas_yarns[y]->section.extent());
-        program.Set(Indexed("u_twist_rate", i).c_str(), atlas_yarns[y]->section.twist_rate);
-        program.Set(Indexed("u_diffuse_albedo", i).c_str(), material.diffuse_albedo);
-        program.Set(Indexed("u_specular_albedo", i).c_str(), material.specular_albedo);
-        program.Set(Indexed("u_specular_exponent", i).c_str(), material.specular_exponent);
-        program.Set(Indexed("u_specular_normalisation", i).c_str(),
+        program.Set("u_extent", i, atlas_yarns[y]->section.extent());
+        program.Set("u_twist_rate", i, atlas_yarns[y]->section.twist_rate);
+        program.Set("u_diffuse_albedo", i, material.diffuse_albedo);
+        program.Set("u_specular_albedo", i, material.specular_albedo);
+        program.Set("u_specular_exponent", i, material.specular_exponent);
+        program.Set("u_specular_normalisation", i,
                     KajiyaKayNormalisation(material.specular_exponent));
         ++y;
       }

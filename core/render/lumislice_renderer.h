@@ -15,8 +15,11 @@
 // in front.
 //
 // Level of detail (§5.2.2): a segment whose section spans m pixels takes the coarsest
-// level of at least 4m voxels a side (the paper: m), plus render.lod_bias levels
-// rounded (2: the paper's choice), and its samples are about that level's voxel apart.
+// level of at least 2m voxels a side (the paper: m), plus render.lod_bias levels
+// rounded (1: the paper's choice), and its samples are about that level's voxel apart.
+// Far away a chain's points closer than a pixel are merged, and a yarn narrower than a
+// pixel is drawn a pixel wide with its opacity scaled by its coverage
+// (lumislice_segment.glsl).
 // What is left out and measured: docs/lumislice.md.
 
 #include <cstdint>

@@ -6,11 +6,6 @@
 #include "core/scene/scene_light.h"
 
 namespace loom {
-namespace {
-
-std::string Indexed(const char* name, int i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
-
-}  // namespace
 
 SceneBounds SceneBoundsOf(const std::vector<SceneMesh>& meshes) {
   const Bounds bounds = SceneGeometryBounds(meshes);
@@ -32,17 +27,16 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
       shadow_directions.push_back(light.vector);
     }
     for (const gl::ShaderProgram* program : programs) {
-      program->Set(Indexed("u_light_vector", i).c_str(), glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
-      program->Set(Indexed("u_light_radiance", i).c_str(), light.radiance);
-      program->Set(Indexed("u_light_shadow", i).c_str(), shadow);
+      program->Set("u_light_vector", i, glm::vec4(light.vector, light.directional ? 0.0f : 1.0f));
+      program->Set("u_light_radiance", i, light.radiance);
+      program->Set("u_light_shadow", i, shadow);
     }
   }
   shadows.Render(shadow_directions, bounds, opaque_casters, cloth_casters, fabric_unit);
   for (const gl::ShaderProgram* program : programs) {
     program->Set("u_light_count", count);
     for (size_t layer = 0; layer < shadow_directions.size(); ++layer) {
-      program->Set(Indexed("u_shadow_matrix", static_cast<int>(layer)).c_str(),
-                   shadows.matrix(static_cast<int>(layer)));
+      program->Set("u_shadow_matrix", static_cast<int>(layer), shadows.matrix(static_cast<int>(layer)));
     }
     program->Set("u_shadow_bias", shadows.bias());
   }

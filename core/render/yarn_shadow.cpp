@@ -2,58 +2,69 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "core/util/vector_math.h"
 
 namespace loom {
 namespace {
 
-constexpr int kProfilePhases = 16;
-constexpr int kChordSteps = 256;
+// Where points lie as a light sees them: `Across` its view, `Nearer` to it, and the
+// world length a unit across spans at a point. A directional light's view is an
+// orthographic one along it; a point light's a perspective one from it, about the
+// direction to the segments' centre, which points beside or behind the light leave.
+class LightView {
+ public:
+  LightView(const SceneLight& light, const std::vector<ShadowSegment>& segments) : light_(light) {
+    glm::vec3 axis = light.vector;
+    if (!light.directional) {
+      glm::vec3 centre(0.0f);
+      for (const ShadowSegment& s : segments) centre += 0.5f * (s.start + s.end);
+      centre /= static_cast<float>(segments.size());
+      axis = glm::length(centre - light.vector) > 0.0f ? glm::normalize(light.vector - centre) : glm::vec3(0, 0, 1);
+    }
+    w_ = axis;  // towards the light
+    e1_ = AnyPerpendicular(w_);
+    e2_ = glm::cross(w_, e1_);
+  }
+  // Whether the light sees `p` in its view (a point light: in front of it).
+  bool Sees(glm::vec3 p) const { return light_.directional || Depth(p) > kMinDepth; }
+  glm::vec2 Across(glm::vec3 p) const {
+    if (light_.directional) return {glm::dot(p, e1_), glm::dot(p, e2_)};
+    const glm::vec3 d = p - light_.vector;
+    return glm::vec2(glm::dot(d, e1_), glm::dot(d, e2_)) / Depth(p);
+  }
+  // Larger the nearer the light, along its view's axis (as a shadow map's depth).
+  float Nearness(glm::vec3 p) const { return light_.directional ? glm::dot(p, w_) : -Depth(p); }
+  float Scale(glm::vec3 p) const { return light_.directional ? 1.0f : Depth(p); }
+
+ private:
+  static constexpr float kMinDepth = 1e-4f;
+  float Depth(glm::vec3 p) const { return glm::dot(light_.vector - p, w_); }
+  SceneLight light_;
+  glm::vec3 w_, e1_, e2_;
+};
 
 }  // namespace
 
-std::vector<float> YarnShadowProfile(const YarnSection& section, float optical_density) {
-  const float extent = section.extent();
-  std::vector<float> chord(kYarnShadowProfileSamples);
-  for (int k = 0; k < kYarnShadowProfileSamples; ++k) {
-    const float d = extent * static_cast<float>(k) / (kYarnShadowProfileSamples - 1);
-    double transmittance = 0.0;
-    for (int p = 0; p < kProfilePhases; ++p) {
-      const float phase = 2.0f * std::numbers::pi_v<float> * static_cast<float>(p) / kProfilePhases;
-      double depth = 0.0;
-      const float ds = 2.0f * extent / kChordSteps;
-      for (int s = 0; s < kChordSteps; ++s) {
-        depth += FibreDensity(section, {d, -extent + ds * (static_cast<float>(s) + 0.5f)}, phase) * ds;
-      }
-      transmittance += std::exp(-optical_density * depth);
-    }
-    chord[k] = static_cast<float>(transmittance / kProfilePhases);
-  }
-  std::vector<float> profile(kYarnShadowProfileSamples, 1.0f);
-  const float centre = 1.0f - chord[0];
-  if (centre <= 0.0f) return profile;
-  for (int k = 0; k < kYarnShadowProfileSamples; ++k) {
-    profile[k] = std::clamp(1.0f - kYarnShadowStrength * (1.0f - chord[k]) / centre, 0.0f, 1.0f);
-  }
-  return profile;
-}
-
 std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const YarnShadowProfiles& profiles,
-                               glm::vec3 light) {
+                               const SceneLight& light) {
   std::vector<float> shadow(segments.size(), 1.0f);
   if (segments.empty()) return shadow;
-  // The light's view: positions across it, and heights towards it.
-  const glm::vec3 e1 = AnyPerpendicular(light), e2 = glm::cross(light, e1);
-  const auto across = [&](glm::vec3 p) { return glm::vec2(glm::dot(p, e1), glm::dot(p, e2)); };
+  const LightView view(light, segments);
+  const auto seen = [&](const ShadowSegment& s) { return view.Sees(s.start) && view.Sees(s.end); };
+  // Each segment's reach in the light's view, at its nearer end to the light.
+  const auto reach_of = [&](const ShadowSegment& s) {
+    return profiles.extent[s.yarn] * s.radius / std::min(view.Scale(s.start), view.Scale(s.end));
+  };
   glm::vec2 low(1e30f), high(-1e30f);
   float reach = 0.0f;
   for (const ShadowSegment& s : segments) {
-    low = glm::min(low, glm::min(across(s.start), across(s.end)));
-    high = glm::max(high, glm::max(across(s.start), across(s.end)));
-    reach = std::max(reach, profiles.extent[s.yarn] * s.radius);
+    if (!seen(s)) continue;
+    low = glm::min(low, glm::min(view.Across(s.start), view.Across(s.end)));
+    high = glm::max(high, glm::max(view.Across(s.start), view.Across(s.end)));
+    reach = std::max(reach, reach_of(s));
   }
+  if (reach == 0.0f) return shadow;
   low -= reach;
   high += reach;
   // Cells of at least a reach (a point's shadowing yarns are in its own cell), and
@@ -67,9 +78,10 @@ std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const
   std::vector<std::vector<uint32_t>> grid(static_cast<size_t>(size.x) * size.y);
   for (uint32_t i = 0; i < segments.size(); ++i) {
     const ShadowSegment& s = segments[i];
-    const float r = profiles.extent[s.yarn] * s.radius;
-    const glm::ivec2 c0 = cell_of(glm::min(across(s.start), across(s.end)) - r);
-    const glm::ivec2 c1 = cell_of(glm::max(across(s.start), across(s.end)) + r);
+    if (!seen(s)) continue;
+    const float r = reach_of(s);
+    const glm::ivec2 c0 = cell_of(glm::min(view.Across(s.start), view.Across(s.end)) - r);
+    const glm::ivec2 c1 = cell_of(glm::max(view.Across(s.start), view.Across(s.end)) + r);
     for (int y = c0.y; y <= c1.y; ++y) {
       for (int x = c0.x; x <= c1.x; ++x) grid[static_cast<size_t>(y) * size.x + x].push_back(i);
     }
@@ -77,8 +89,9 @@ std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const
   for (size_t j = 0; j < segments.size(); ++j) {
     const ShadowSegment& shaded = segments[j];
     const glm::vec3 middle = 0.5f * (shaded.start + shaded.end);
-    const glm::vec2 point = across(middle);
-    const float height = glm::dot(middle, light);
+    if (!view.Sees(middle)) continue;
+    const glm::vec2 point = view.Across(middle);
+    const float nearness = view.Nearness(middle);
     const float arc = shaded.arc + 0.5f * glm::distance(shaded.start, shaded.end);
     const glm::ivec2 c = cell_of(point);
     float transmittance = 1.0f;
@@ -91,12 +104,13 @@ std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const
       }
       // The nearest point of its centre line in the light's view, and whether it lies
       // between the shaded point and the light.
-      const glm::vec2 a = across(s.start), b = across(s.end);
+      const glm::vec2 a = view.Across(s.start), b = view.Across(s.end);
       const glm::vec2 ab = b - a;
       const float u = glm::dot(ab, ab) > 0.0f ? std::clamp(glm::dot(point - a, ab) / glm::dot(ab, ab), 0.0f, 1.0f)
                                               : 0.0f;
-      if (glm::mix(glm::dot(s.start, light), glm::dot(s.end, light), u) <= height) continue;
-      const float d = glm::distance(point, a + u * ab) / s.radius;
+      const glm::vec3 nearest = glm::mix(s.start, s.end, u);
+      if (view.Nearness(nearest) <= nearness) continue;
+      const float d = glm::distance(point, a + u * ab) * view.Scale(nearest) / s.radius;
       const float extent = profiles.extent[s.yarn];
       if (d >= extent) continue;
       const std::vector<float>& profile = profiles.profile[s.yarn];

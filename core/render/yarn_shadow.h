@@ -10,22 +10,19 @@
 // transmittance, averaged over the section's turn). The yarn near the point along its
 // own course is the lumislice's business (its VRF holds that light's attenuation), so a
 // segment does not shadow the points of its own chain within the lumislice's light
-// path. Computed per segment (the paper: at slice vertices) for directional lights;
-// point lights cast no yarn shadows.
+// path. Computed per segment (the paper: at slice vertices) and light: a directional
+// light's view is orthographic, a point light's perspective from it (d then measured at
+// the shadowing yarn's distance from the light). T_y(d) is each yarn's
+// Lumislice::shadow_profile.
 
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "core/fabric/yarn_section.h"
+#include "core/methods/lumislice/lumislice_table.h"
+#include "core/scene/scene_light.h"
 
 namespace loom {
-
-inline constexpr float kYarnShadowStrength = 0.8f;  // k₀
-inline constexpr int kYarnShadowProfileSamples = 64;
-
-// T_y at kYarnShadowProfileSamples offsets d = extent·k/(samples − 1), yarn radii.
-std::vector<float> YarnShadowProfile(const YarnSection& section, float optical_density);
 
 struct ShadowSegment {
   glm::vec3 start{}, end{};
@@ -43,9 +40,9 @@ struct YarnShadowProfiles {
   float own_chain_radii = 0.0f;
 };
 
-// T_y at each segment's midpoint for the light from unit direction `light` (towards
-// it): the product over the segments that shadow it.
+// T_y at each segment's midpoint for `light`: the product over the segments that
+// shadow it (1 where a point light does not see the segment in front of it).
 std::vector<float> YarnShadows(const std::vector<ShadowSegment>& segments, const YarnShadowProfiles& profiles,
-                               glm::vec3 light);
+                               const SceneLight& light);
 
 }  // namespace loom

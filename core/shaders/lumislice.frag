@@ -58,7 +58,7 @@ vec2 Rotate(vec2 p, float angle) {
 void main() {
   Segment s = segments[v_segment];
   SegmentFrame f = FrameOf(s);
-  int level = int(s.start_plane.w), yarn = int(s.end_plane.w);
+  int level = f.level, yarn = f.yarn;
 
   // The ray through this pixel, parametrised from the box's back face.
   vec3 origin = v_position;
@@ -174,11 +174,11 @@ void main() {
     }
     radiance += transmittance * alpha * light_sum;
     transmittance *= 1.0 - alpha;
-    if (transmittance < 1e-4) {
+    if (transmittance < 0.01) {
       transmittance = 0.0;
       break;
     }
   }
   if (transmittance >= 1.0) discard;
-  o_radiance = vec4(radiance, 1.0 - transmittance);
+  o_radiance = s.shading.x * vec4(radiance, 1.0 - transmittance);
 }

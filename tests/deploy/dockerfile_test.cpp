@@ -105,7 +105,9 @@ TEST(Dockerfile, BuildsTheServerAndWorkerImages) {
   EXPECT_EQ(LoomImages().at("loom-server").entrypoint, std::vector<std::string>{"loom-server"});
   EXPECT_EQ(LoomImages().at("loom-worker").entrypoint, std::vector<std::string>{"loom-worker"});
   for (const DockerStage& stage : LoomDockerfile().stages) {
-    if (LoomDockerfile().Stage(stage.base) == nullptr) EXPECT_EQ(stage.base, "debian:12") << stage.name;
+    if (LoomDockerfile().Stage(stage.base) == nullptr) {
+      EXPECT_EQ(stage.base, "debian:12") << stage.name;
+    }
   }
 }
 

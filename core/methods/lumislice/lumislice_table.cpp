@@ -14,6 +14,9 @@
 namespace loom {
 namespace {
 
+constexpr int kProfilePhases = 16;  // the shadow profile's chords, averaged over the section's turn
+constexpr int kChordSteps = 256;
+
 constexpr float kPi = std::numbers::pi_v<float>;
 // March steps per radius of the thinnest ply at least, as the volume's march (yarn_volume.cpp).
 constexpr float kStepsPerPlyRadius = 6.0f;
@@ -96,6 +99,32 @@ LumisliceLevel HalveLumisliceLevel(const LumisliceLevel& fine) {
   return coarse;
 }
 
+std::vector<float> YarnShadowProfile(const YarnSection& section, float optical_density) {
+  const float extent = section.extent();
+  std::vector<float> chord(kYarnShadowProfileSamples);
+  for (int k = 0; k < kYarnShadowProfileSamples; ++k) {
+    const float d = extent * static_cast<float>(k) / (kYarnShadowProfileSamples - 1);
+    double transmittance = 0.0;
+    for (int p = 0; p < kProfilePhases; ++p) {
+      const float phase = 2.0f * std::numbers::pi_v<float> * static_cast<float>(p) / kProfilePhases;
+      double depth = 0.0;
+      const float ds = 2.0f * extent / kChordSteps;
+      for (int s = 0; s < kChordSteps; ++s) {
+        depth += FibreDensity(section, {d, -extent + ds * (static_cast<float>(s) + 0.5f)}, phase) * ds;
+      }
+      transmittance += std::exp(-optical_density * depth);
+    }
+    chord[k] = static_cast<float>(transmittance / kProfilePhases);
+  }
+  std::vector<float> profile(kYarnShadowProfileSamples, 1.0f);
+  const float centre = 1.0f - chord[0];
+  if (centre <= 0.0f) return profile;
+  for (int k = 0; k < kYarnShadowProfileSamples; ++k) {
+    profile[k] = std::clamp(1.0f - kYarnShadowStrength * (1.0f - chord[k]) / centre, 0.0f, 1.0f);
+  }
+  return profile;
+}
+
 Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& material, const LumisliceSettings& settings,
                          const std::function<void(double)>& progress) {
   const int resolution = settings.resolution;
@@ -133,6 +162,7 @@ Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& materia
       });
   slice.levels.push_back(std::move(finest));
   while (slice.levels.back().resolution > 1) slice.levels.push_back(HalveLumisliceLevel(slice.levels.back()));
+  slice.shadow_profile = YarnShadowProfile(section, slice.optical_density);
   return slice;
 }
 

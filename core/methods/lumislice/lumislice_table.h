@@ -47,10 +47,18 @@ struct LumisliceLevel {
   const glm::vec4& at(int direction, size_t voxel) const { return vrf[direction * voxel_count() + voxel]; }
 };
 
+// Eq. 10's yarn shadow T_y(d) (core/render/yarn_shadow.h) at kYarnShadowProfileSamples
+// offsets d = extent·k/(samples − 1) yarn radii from the centre line: 1 − k₀ (1 − T(d)) /
+// (1 − T(0)), T(d) the transmittance of the section's chord at d averaged over its turn.
+inline constexpr float kYarnShadowStrength = 0.8f;  // k₀
+inline constexpr int kYarnShadowProfileSamples = 64;
+std::vector<float> YarnShadowProfile(const YarnSection& section, float optical_density);
+
 struct Lumislice {
   YarnSection section;
   float optical_density = 0.0f;      // γ: extinction per yarn radius at density 1
   std::vector<LumisliceLevel> levels;  // levels[0] the finest, down to 1×1
+  std::vector<float> shadow_profile;   // YarnShadowProfile(section, optical_density)
 
   // Bytes as stored: half floats, the density and four channels per direction.
   size_t StoredBytes() const;

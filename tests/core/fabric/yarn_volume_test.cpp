@@ -167,7 +167,9 @@ TEST(YarnVolume, LightThroughTheYarnKeepsWhatItsDensityIntegralSays) {
     const glm::vec3 top(x, 0.5f + d * kRadius, volume.z_max() + 0.01f);
     const float marched = VolumeTransmittance(volume, top, {0, 0, -1}, 0.5f);
     EXPECT_NEAR(marched, std::exp(-optical), 0.01f + 0.02f * std::exp(-optical)) << "d " << d;
-    if (d > 1.0f) EXPECT_NEAR(optical, formula, 1e-3 * formula + 1e-6) << "d " << d;
+    if (d > 1.0f) {
+      EXPECT_NEAR(optical, formula, 1e-3 * formula + 1e-6) << "d " << d;
+    }
   }
 }
 

@@ -721,7 +721,9 @@ TEST_F(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
     const JobPage page = queue_->List({}, 1000, token, kCap);
     uint64_t bytes = 0;
     for (const v1::Job& job : page.jobs) bytes += job.ByteSizeLong();
-    if (page.jobs.size() > 1) EXPECT_LE(bytes, kCap);
+    if (page.jobs.size() > 1) {
+      EXPECT_LE(bytes, kCap);
+    }
     sizes.push_back(page.jobs.size());
     jobs += static_cast<int>(page.jobs.size());
     token = page.next_page_token;
