@@ -120,7 +120,7 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
     case v1::RENDER_METHOD_REFERENCE: image = ReferenceRenderer().Render(scene, geometry, progress).image; break;
     case v1::RENDER_METHOD_LUMISLICE: {
       if (!lumislice_renderer_) lumislice_renderer_ = std::make_unique<LumisliceRenderer>(*context_);
-      const SceneLumislices lumislices = BuildSceneLumislices(geometry, LumisliceSettings());
+      const SceneLumislices lumislices = BuildSceneLumislices(geometry, LumisliceSettings(), &lumislice_cache_);
       image = lumislice_renderer_->Render(scene, geometry, lumislices.per_mesh).rendered.image;
       break;
     }

@@ -54,7 +54,8 @@ class JobRunner {
 
   // The frame of `job`, encoded as its scene's format says (unspecified: PNG), by
   // the scene's method: the GPU renderer on the context, the lumislice renderer on it
-  // (its knit fabrics' lumislices built for the job), or the reference ray tracer.
+  // (its knit fabrics' lumislices built for the job, or kept from one of the last
+  // kLumisliceCacheFabrics fabrics' jobs), or the reference ray tracer.
   // `meshes` resolves uploaded mesh artifacts; for the GPU, `assets` holds every
   // fabric the scene names (core/render/scene_render.h). `progress` hears of the
   // reference's pixel rows (an svbrdf frame takes too little time to report on);
@@ -63,11 +64,13 @@ class JobRunner {
                    const ReferenceProgress& progress = {});
 
  private:
+  static constexpr size_t kLumisliceCacheFabrics = 4;
   std::filesystem::path NewScratchPath(const std::string& stem);
 
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<GpuRenderer> renderer_;
   std::unique_ptr<LumisliceRenderer> lumislice_renderer_;  // made for the first lumislice job
+  LumisliceCache lumislice_cache_{kLumisliceCacheFabrics};  // the last lumislice jobs' knit fabrics
   std::filesystem::path scratch_;
   uint64_t next_scratch_ = 0;
 };

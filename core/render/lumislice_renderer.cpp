@@ -170,17 +170,15 @@ struct PixelScale {
   }
 };
 
-// The level with the fewest voxels a side that are at least kLevelOversampling ×
-// `pixels` (the paper's §5.2.2 takes 2ⁿ ≥ m, kLevelOversampling 1), and at least
-// kMinLevelResolution; level l has resolution >> l. Coarse levels average a section's
-// lit and unlit sides into one colour, which a view of the lit side does not see:
-// docs/lumislice.md measures it.
-constexpr float kLevelOversampling = 2.0f;
+// The level with the fewest voxels a side that are at least `pixels` (the paper's §5.2.2:
+// 2ⁿ ≥ m) and at least kMinLevelResolution; level l has resolution >> l. Coarser levels
+// average a section's lit and unlit sides into one colour, which a view of the lit side
+// does not see: docs/lumislice.md measures it.
 constexpr float kMinLevelResolution = 8.0f;
 int LevelFor(float pixels, int resolution, int levels) {
   int level = 0;
   while (level + 1 < levels &&
-         static_cast<float>(resolution >> (level + 1)) >= std::max(kLevelOversampling * pixels, kMinLevelResolution)) {
+         static_cast<float>(resolution >> (level + 1)) >= std::max(pixels, kMinLevelResolution)) {
     ++level;
   }
   return level;
@@ -209,7 +207,21 @@ std::vector<size_t> KeptPoints(const SkeletonChain& chain, const MinLength& min_
 
 }  // namespace
 
-SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings) {
+std::shared_ptr<const YarnLumislices> LumisliceCache::Find(const std::string& key) {
+  const auto at = std::find_if(entries_.begin(), entries_.end(), [&](const auto& entry) { return entry.first == key; });
+  if (at == entries_.end()) return nullptr;
+  entries_.splice(entries_.begin(), entries_, at);
+  return entries_.front().second;
+}
+
+void LumisliceCache::Insert(const std::string& key, std::shared_ptr<const YarnLumislices> lumislices) {
+  entries_.remove_if([&](const auto& entry) { return entry.first == key; });
+  entries_.emplace_front(key, std::move(lumislices));
+  while (entries_.size() > capacity_) entries_.pop_back();
+}
+
+SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings,
+                                     LumisliceCache* cache) {
   const Stopwatch stopwatch;
   SceneLumislices built;
   built.per_mesh.assign(meshes.size(), nullptr);
@@ -221,9 +233,17 @@ SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const
       throw Error(ErrorCode::kInvalidArgument,
                   "objects[" + std::to_string(i) + "].fabric: lumislice renders knit fabrics only");
     }
-    auto [at, inserted] = built.by_fabric.try_emplace(fabric.SerializeAsString());
-    if (inserted) at->second = BuildFabricLumislices(fabric, settings);
-    built.per_mesh[i] = &at->second;
+    const std::string key = fabric.SerializeAsString();
+    auto [at, inserted] = built.by_fabric.try_emplace(key);
+    if (inserted) {
+      at->second = cache != nullptr ? cache->Find(key) : nullptr;
+      if (at->second == nullptr) {
+        at->second = std::make_shared<const YarnLumislices>(BuildFabricLumislices(fabric, settings));
+        ++built.built;
+        if (cache != nullptr) cache->Insert(key, at->second);
+      }
+    }
+    built.per_mesh[i] = at->second.get();
   }
   built.seconds = stopwatch.Seconds();
   return built;

@@ -15,14 +15,15 @@
 // in front.
 //
 // Level of detail (§5.2.2): a segment whose section spans m pixels takes the coarsest
-// level of at least 2m voxels a side (the paper: m), plus render.lod_bias levels
-// rounded (1: the paper's choice), and its samples are about that level's voxel apart.
+// level of at least m voxels a side (the paper's rule) and at least 8×8, plus
+// render.lod_bias levels rounded, and its samples are about that level's voxel apart.
 // Far away a chain's points closer than a pixel are merged, and a yarn narrower than a
 // pixel is drawn a pixel wide with its opacity scaled by its coverage
 // (lumislice_segment.glsl).
 // What is left out and measured: docs/lumislice.md.
 
 #include <cstdint>
+#include <list>
 #include <map>
 #include <string>
 #include <memory>
@@ -50,15 +51,30 @@ struct LumisliceFrame {
   std::vector<size_t> segments_per_level;
 };
 
-// The lumislices of a scene's knit cloth, each distinct fabric built once; per_mesh[i]
-// null for an object without a fabric. Error(kInvalidArgument) naming the object for
-// cloth that is not knit.
-struct SceneLumislices {
-  std::map<std::string, YarnLumislices> by_fabric;  // by serialised FabricSpec
-  std::vector<const YarnLumislices*> per_mesh;
-  double seconds = 0.0;  // to build them
+// Lumislices kept across frames, by serialised FabricSpec: at most `capacity` fabrics,
+// the least recently used dropped first (a frame being rendered keeps its own).
+class LumisliceCache {
+ public:
+  explicit LumisliceCache(size_t capacity) : capacity_(capacity) {}
+  std::shared_ptr<const YarnLumislices> Find(const std::string& key);
+  void Insert(const std::string& key, std::shared_ptr<const YarnLumislices> lumislices);
+
+ private:
+  size_t capacity_;
+  std::list<std::pair<std::string, std::shared_ptr<const YarnLumislices>>> entries_;  // most recent first
 };
-SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings);
+
+// The lumislices of a scene's knit cloth, each distinct fabric once, found in `cache`
+// or built (and then kept there); per_mesh[i] null for an object without a fabric.
+// Error(kInvalidArgument) naming the object for cloth that is not knit.
+struct SceneLumislices {
+  std::map<std::string, std::shared_ptr<const YarnLumislices>> by_fabric;  // by serialised FabricSpec
+  std::vector<const YarnLumislices*> per_mesh;
+  size_t built = 0;      // fabrics built, not found in the cache
+  double seconds = 0.0;  // to find or build them
+};
+SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const LumisliceSettings& settings,
+                                     LumisliceCache* cache = nullptr);
 
 class LumisliceRenderer {
  public:

@@ -147,5 +147,28 @@ TEST(LumisliceRenderer, SubPixelYarnGivesTheFinerFramesPixelMean) {
   EXPECT_NEAR(comparison.mean_ratio, 0.85, 0.15);
 }
 
+// A cache builds each knit fabric's lumislices once and hands the same ones back, until
+// more fabrics than it holds push the least recently used out.
+TEST(LumisliceRenderer, ACacheBuildsEachFabricOnce) {
+  const Prepared first = Prepare(KnitScene(16, 1, false, "RENDER_METHOD_LUMISLICE"));
+  v1::SceneSpec other_scene = first.scene;
+  other_scene.mutable_objects(0)->mutable_fabric()->mutable_fabric()->mutable_yarns(0)->mutable_diffuse_albedo()->set_g(
+      0.5f);
+  const std::vector<SceneMesh> other = BuildSceneGeometry(other_scene, FileMeshResolver("."));
+  LumisliceSettings settings;
+  settings.resolution = 8;
+  for (const size_t capacity : {1u, 2u}) {
+    LumisliceCache cache(capacity);
+    const SceneLumislices a = BuildSceneLumislices(first.meshes, settings, &cache);
+    const SceneLumislices again = BuildSceneLumislices(first.meshes, settings, &cache);
+    EXPECT_EQ(a.built, 1u);
+    EXPECT_EQ(again.built, 0u);
+    EXPECT_EQ(again.per_mesh[0], a.per_mesh[0]);
+    EXPECT_EQ(BuildSceneLumislices(other, settings, &cache).built, 1u);
+    EXPECT_EQ(BuildSceneLumislices(first.meshes, settings, &cache).built, capacity == 1 ? 1u : 0u) << capacity;
+  }
+  EXPECT_EQ(BuildSceneLumislices(first.meshes, settings).built, 1u);  // without a cache
+}
+
 }  // namespace
 }  // namespace loom
