@@ -12,6 +12,7 @@
 #include "core/gl/mesh_buffer.h"
 #include "core/render/scene_lights.h"
 #include "core/render/yarn_shadow.h"
+#include "core/render/yarn_shadow_map.h"
 #include "core/scene/scene_light.h"
 #include "core/scene/camera.h"
 #include "core/spec/defaults.h"
@@ -25,6 +26,7 @@ constexpr int kShadowUnit = 0;
 constexpr int kDepthUnit = 1;
 constexpr int kVrfUnit = 2;
 constexpr int kDensityUnit = 3;
+constexpr int kYarnShadowUnit = 4;
 constexpr int kMaxAtlasYarns = 16;  // as the yarn arrays of lumislice.frag
 constexpr int kLongitudeSpan = kLumisliceLongitudes + 1;
 
@@ -252,7 +254,7 @@ SceneLumislices BuildSceneLumislices(const std::vector<SceneMesh>& meshes, const
 LumisliceRenderer::LumisliceRenderer(gl::EglContext& context)
     : context_(context),
       yarn_program_((context.MakeCurrent(), gl::ShaderProgram::FromEmbedded("lumislice.vert", "lumislice.frag"))),
-      opaque_program_(gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag")) {}
+      opaque_program_(gl::ShaderProgram::FromEmbedded("scene.vert", "opaque.frag", "#define LOOM_YARN_SHADOWS\n")) {}
 
 LumisliceRenderer::~LumisliceRenderer() = default;
 
@@ -365,7 +367,42 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     return x.distance != y.distance ? x.distance > y.distance : x.order < y.order;
   });
 
-  // Plain objects: opaque, with their macro shadows; they cast the only shadow maps.
+  // The segments in drawing order, and their yarn shadows, bound batch by batch: each a
+  // shader storage block (llvmpipe's holds 128 MiB) and a multiple of 256 segments so
+  // that both ranges keep their offset alignment.
+  std::vector<GpuSegment> ordered(segments.size());
+  const size_t lights = static_cast<size_t>(std::max(light_count, 1));
+  std::vector<float> shadows(std::max<size_t>(segments.size() * lights, 1), 1.0f);
+  for (size_t k = 0; k < segments.size(); ++k) {
+    ordered[k] = segments[k].segment;
+    for (int i = 0; i < light_count; ++i) {
+      shadows[k * lights + static_cast<size_t>(i)] = yarn_shadows[static_cast<size_t>(i)][segments[k].order];
+    }
+  }
+  GLuint segment_buffers[2] = {0, 0};
+  glCreateBuffers(2, segment_buffers);
+  glNamedBufferStorage(segment_buffers[0], static_cast<GLsizeiptr>(std::max<size_t>(ordered.size(), 1) * sizeof(GpuSegment)),
+                       ordered.empty() ? nullptr : ordered.data(), 0);
+  glNamedBufferStorage(segment_buffers[1], static_cast<GLsizeiptr>(shadows.size() * sizeof(float)), shadows.data(), 0);
+  GLint block = 0;
+  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+  const size_t batch =
+      std::max<size_t>(static_cast<size_t>(block) / std::max(sizeof(GpuSegment), sizeof(float) * lights) / 256 * 256, 256);
+  const auto for_each_batch = [&](const YarnShadowMap::DrawBatch& draw) {
+    for (size_t first = 0; first < ordered.size(); first += batch) {
+      const size_t count = std::min(batch, ordered.size() - first);
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, segment_buffers[0],
+                        static_cast<GLintptr>(first * sizeof(GpuSegment)),
+                        static_cast<GLsizeiptr>(count * sizeof(GpuSegment)));
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, segment_buffers[1],
+                        static_cast<GLintptr>(first * lights * sizeof(float)),
+                        static_cast<GLsizeiptr>(count * lights * sizeof(float)));
+      draw(static_cast<GLsizei>(count));
+    }
+  };
+
+  // Plain objects: opaque, with their macro shadows and the yarn's (eq. 10 in the maps'
+  // light views); they cast the only shadow maps.
   std::vector<std::unique_ptr<gl::MeshBuffer>> buffers;
   std::vector<const gl::MeshBuffer*> opaque;
   for (size_t m = 0; m < meshes.size(); ++m) {
@@ -378,8 +415,12 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   }
   gl::GpuTimer timer, cloth_timer;
   timer.Start();
-  SetUpLights(scene, SceneBoundsOf(meshes), opaque, {}, *shadows_, kDensityUnit + 1,
+  SetUpLights(scene, SceneBoundsOf(meshes), opaque, {}, *shadows_, kYarnShadowUnit + 1,
               {&opaque_program_, &yarn_program_});
+  if (!yarn_shadow_map_ || yarn_shadow_map_->size() != shadows_->size()) {
+    yarn_shadow_map_ = std::make_unique<YarnShadowMap>(shadows_->size());
+  }
+  yarn_shadow_map_->Render(shadows_->matrices(), atlas_yarns, for_each_batch);
 
   const LumisliceTarget target(width, height);
   target.BindOpaque();
@@ -390,9 +431,11 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   glBindTextureUnit(kShadowUnit, shadows_->texture());
+  glBindTextureUnit(kYarnShadowUnit, yarn_shadow_map_->texture());
   const glm::mat4 view_projection = camera.projection * camera.view;
   opaque_program_.Use();
   opaque_program_.Set("u_shadow_maps", kShadowUnit);
+  opaque_program_.Set("u_yarn_shadows", kYarnShadowUnit);
   opaque_program_.Set("u_view_projection", view_projection);
   opaque_program_.Set("u_ambient", ToGlm(scene.ambient()));
   size_t b = 0;
@@ -405,19 +448,6 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   cloth_timer.Start();
   if (!segments.empty()) {
     const LumisliceAtlas atlas(atlas_yarns, resolution);
-    std::vector<GpuSegment> ordered(segments.size());
-    std::vector<float> shadows(std::max<size_t>(segments.size() * static_cast<size_t>(light_count), 1), 1.0f);
-    for (size_t k = 0; k < segments.size(); ++k) {
-      ordered[k] = segments[k].segment;
-      for (int i = 0; i < light_count; ++i) {
-        shadows[k * static_cast<size_t>(light_count) + static_cast<size_t>(i)] =
-            yarn_shadows[static_cast<size_t>(i)][segments[k].order];
-      }
-    }
-    GLuint buffers[2] = {0, 0};
-    glCreateBuffers(2, buffers);
-    glNamedBufferStorage(buffers[0], static_cast<GLsizeiptr>(ordered.size() * sizeof(GpuSegment)), ordered.data(), 0);
-    glNamedBufferStorage(buffers[1], static_cast<GLsizeiptr>(shadows.size() * sizeof(float)), shadows.data(), 0);
     target.BindYarn();
     glDisable(GL_DEPTH_TEST);
     glEnable(GL_CULL_FACE);
@@ -464,31 +494,16 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     glNamedBufferStorage(indices, sizeof(kBoxIndices), kBoxIndices, 0);
     glVertexArrayElementBuffer(vao, indices);
     glBindVertexArray(vao);
-    // In batches that fit a shader storage block (llvmpipe's holds 128 MiB), each a
-    // multiple of 256 segments so that both ranges keep their offset alignment.
-    GLint block = 0;
-    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-    const size_t per_segment = std::max(sizeof(GpuSegment), sizeof(float) * std::max(light_count, 1));
-    const size_t batch = std::max<size_t>(static_cast<size_t>(block) / per_segment / 256 * 256, 256);
-    const size_t lights = static_cast<size_t>(std::max(light_count, 1));
-    for (size_t first = 0; first < ordered.size(); first += batch) {
-      const size_t count = std::min(batch, ordered.size() - first);
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, buffers[0], static_cast<GLintptr>(first * sizeof(GpuSegment)),
-                        static_cast<GLsizeiptr>(count * sizeof(GpuSegment)));
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, buffers[1],
-                        static_cast<GLintptr>(first * lights * sizeof(float)),
-                        static_cast<GLsizeiptr>(count * lights * sizeof(float)));
-      glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(count));
-    }
+    for_each_batch([](GLsizei count) { glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, count); });
     glBindVertexArray(0);
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(1, &indices);
-    glDeleteBuffers(2, buffers);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
   }
   cloth_timer.Stop();
   timer.Stop();
+  glDeleteBuffers(2, segment_buffers);
   frame.rendered.image = target.ReadPixels();
   frame.rendered.gpu_ms = timer.Milliseconds();
   frame.rendered.cloth_gpu_ms = cloth_timer.Milliseconds();

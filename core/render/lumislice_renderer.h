@@ -11,8 +11,8 @@
 // depend on the order they are handed in. Light reaching a segment is dimmed by the
 // yarns between it and the light (eq. 10, core/render/yarn_shadow.h) and by plain
 // objects' shadow maps. Objects without a fabric are drawn first (opaque.frag, with
-// their macro shadows; the yarn casts none on them); the yarn is cut where they stand
-// in front.
+// their macro shadows and the yarn's, core/render/yarn_shadow_map.h); the yarn is cut
+// where they stand in front.
 //
 // Level of detail (§5.2.2): a segment whose section spans m pixels takes the coarsest
 // level of at least m voxels a side (the paper's rule) and at least 8×8, plus
@@ -36,6 +36,7 @@
 #include "core/render/gpu_renderer.h"
 #include "core/render/knit_skeleton.h"
 #include "core/render/shadow_maps.h"
+#include "core/render/yarn_shadow_map.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/scene.pb.h"
 
@@ -93,6 +94,7 @@ class LumisliceRenderer {
   gl::ShaderProgram yarn_program_;
   gl::ShaderProgram opaque_program_;
   std::unique_ptr<ShadowMaps> shadows_;
+  std::unique_ptr<YarnShadowMap> yarn_shadow_map_;
 };
 
 }  // namespace loom

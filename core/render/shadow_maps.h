@@ -48,6 +48,7 @@ class ShadowMaps {
 
   GLuint texture() const { return texture_; }
   const glm::mat4& matrix(int layer) const { return matrices_[static_cast<size_t>(layer)]; }
+  const std::vector<glm::mat4>& matrices() const { return matrices_; }  // of the last Render's maps
   int size() const { return size_; }
   // World-space offset along the normal that keeps a lit surface from shadowing itself.
   float bias() const { return bias_; }

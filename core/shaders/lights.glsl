@@ -17,6 +17,11 @@ uniform int u_light_shadow[kMaxLights];
 uniform mat4 u_shadow_matrix[kMaxShadowMaps];  // world → shadow map [0,1]³
 uniform sampler2DArrayShadow u_shadow_maps;
 uniform float u_shadow_bias;
+#ifdef LOOM_YARN_SHADOWS
+// Per shadow map layer, the lumislice yarn over it (core/render/yarn_shadow_map.h): RGB
+// the light the yarn lets through, A the nearest yarn's depth.
+uniform sampler2DArray u_yarn_shadows;
+#endif
 
 // Unit direction towards light i from `position`, and the irradiance it brings
 // at normal incidence there.
@@ -45,5 +50,9 @@ float LightVisibility(int i, vec3 position, vec3 normal) {
   for (int y = -1; y <= 1; ++y)
     for (int x = -1; x <= 1; ++x)
       lit += texture(u_shadow_maps, vec4(uvz.xy + vec2(x, y) * texel, float(layer), uvz.z));
+#ifdef LOOM_YARN_SHADOWS
+  vec4 yarn = texture(u_yarn_shadows, vec3(uvz.xy, float(layer)));
+  if (uvz.z > yarn.a) lit *= yarn.r;
+#endif
   return lit / 9.0;
 }

@@ -170,5 +170,49 @@ TEST(LumisliceRenderer, ACacheBuildsEachFabricOnce) {
   EXPECT_EQ(BuildSceneLumislices(first.meshes, settings).built, 1u);  // without a cache
 }
 
+// The yarn shadows what it stands over (eq. 10 in the shadow map's light view): a board
+// 0.3 under the knit, lit at a slant, is darker where the knit's shadow falls beside it,
+// and where the shadow does not fall it is the board's own frame.
+TEST(LumisliceRenderer, TheYarnShadowsPlainObjectsUnderIt) {
+  const std::string json = R"({"objects": [
+      {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": {"fabric":
+        {"knit": {"pattern": "KNIT_PATTERN_STOCKINETTE", "wales": 2, "courses": 2},
+         "yarns": [{"radius": 0.07, "plies": 2, "twist_degrees": 25, "fuzz": 0.2, "roughness": 0.6,
+                    "diffuse_albedo": {"r": 0.62, "g": 0.08, "b": 0.07}}]}, "repeat_u": 3, "repeat_v": 3}},
+      {"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "base_colour": {"r": 0.5, "g": 0.5, "b": 0.5},
+       "transform": {"translation": {"z": -0.3}, "scale": {"x": 3, "y": 3, "z": 1}}}],
+    "camera": {"projection": "PROJECTION_ORTHOGRAPHIC", "ortho_height": 3, "position": {"z": 3}, "target": {},
+               "up": {"y": 1}},
+    "lights": [{"direction": {"x": -0.6, "y": 0, "z": 1}, "intensity": 3, "casts_shadows": true}],
+    "ambient": {"r": 0.05, "g": 0.05, "b": 0.05}, "background": {"r": 0, "g": 0, "b": 0},
+    "render": {"method": "RENDER_METHOD_LUMISLICE", "width": 96, "height": 96}})";
+  const Prepared p = Prepare(json);
+  const Image frame = Renderer().Render(p.scene, p.meshes, p.yarns).rendered.image;
+  std::vector<SceneMesh> board_only;
+  board_only.push_back(p.meshes[1]);
+  const Image board = Renderer().Render(p.scene, board_only, {nullptr}).rendered.image;
+  // The mean of x ∈ [x0, x1], y ∈ [−0.3, 0.3] on the board (the cloth spans ±0.5; its
+  // shadow falls 0.18 further along x).
+  const auto mean = [](const Image& image, float x0, float x1) {
+    double sum = 0.0;
+    int count = 0;
+    for (int py = 0; py < 96; ++py) {
+      for (int px = 0; px < 96; ++px) {
+        const float x = (px + 0.5f) / 96.0f * 3.0f - 1.5f, y = 1.5f - (py + 0.5f) / 96.0f * 3.0f;
+        if (x < x0 || x > x1 || std::abs(y) > 0.3f) continue;
+        sum += image.at(px, py, 1);
+        ++count;
+      }
+    }
+    return sum / count;
+  };
+  const double lit = mean(board, 0.55f, 0.65f);
+  EXPECT_NEAR(mean(board, 0.85f, 1.2f), lit, 1e-3 * lit);  // the board alone: evenly lit
+  EXPECT_NEAR(mean(frame, 0.85f, 1.2f), lit, 1e-3 * lit);  // beyond the shadow
+  const double shadowed = mean(frame, 0.55f, 0.65f) / lit;
+  EXPECT_LT(shadowed, 0.7) << shadowed;
+  EXPECT_GT(shadowed, 0.05) << shadowed;
+}
+
 }  // namespace
 }  // namespace loom
