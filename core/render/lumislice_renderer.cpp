@@ -112,6 +112,46 @@ class LumisliceAtlas {
   GLuint vrf_ = 0, density_ = 0;
 };
 
+// The segments in drawing order and their yarn shadows (bindings 0 and 1 of
+// lumislice_segment.glsl and lumislice.frag), bound batch by batch: each batch fits a
+// shader storage block (llvmpipe's holds 128 MiB) and is a multiple of 256 segments, so
+// that both ranges keep their offset alignment.
+class SegmentBuffers {
+ public:
+  // `shadows` holds `lights` values a segment.
+  SegmentBuffers(const std::vector<GpuSegment>& segments, const std::vector<float>& shadows, size_t lights)
+      : count_(segments.size()), lights_(lights) {
+    glCreateBuffers(2, buffers_);
+    glNamedBufferStorage(buffers_[0], static_cast<GLsizeiptr>(std::max<size_t>(count_, 1) * sizeof(GpuSegment)),
+                         segments.empty() ? nullptr : segments.data(), 0);
+    glNamedBufferStorage(buffers_[1], static_cast<GLsizeiptr>(std::max<size_t>(shadows.size(), 1) * sizeof(float)),
+                         shadows.empty() ? nullptr : shadows.data(), 0);
+    GLint block = 0;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    batch_ = std::max<size_t>(
+        static_cast<size_t>(block) / std::max(sizeof(GpuSegment), sizeof(float) * lights_) / 256 * 256, 256);
+  }
+  ~SegmentBuffers() { glDeleteBuffers(2, buffers_); }
+  SegmentBuffers(const SegmentBuffers&) = delete;
+  SegmentBuffers& operator=(const SegmentBuffers&) = delete;
+
+  void ForEachBatch(const YarnShadowMap::DrawBatch& draw) const {
+    for (size_t first = 0; first < count_; first += batch_) {
+      const size_t count = std::min(batch_, count_ - first);
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, buffers_[0], static_cast<GLintptr>(first * sizeof(GpuSegment)),
+                        static_cast<GLsizeiptr>(count * sizeof(GpuSegment)));
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, buffers_[1],
+                        static_cast<GLintptr>(first * lights_ * sizeof(float)),
+                        static_cast<GLsizeiptr>(count * lights_ * sizeof(float)));
+      draw(static_cast<GLsizei>(count));
+    }
+  }
+
+ private:
+  size_t count_, lights_, batch_ = 256;
+  GLuint buffers_[2] = {0, 0};
+};
+
 // A colour texture and a depth texture the yarn pass reads (two framebuffers: the
 // opaque pass writes depth, the yarn pass blends into the colour without it).
 class LumisliceTarget {
@@ -207,6 +247,90 @@ std::vector<size_t> KeptPoints(const SkeletonChain& chain, const MinLength& min_
   return kept;
 }
 
+// Every knit cloth's yarns: their lumislices in one atlas, and their segments, each at
+// its level of detail, in one list (`frame` counts them), in the skeleton's order.
+struct CutYarn {
+  std::vector<const Lumislice*> atlas_yarns;
+  std::vector<SortedSegment> segments;
+  std::vector<ShadowSegment> casters;  // the same segments
+  int resolution = 0;                  // of the lumislices' finest level
+};
+CutYarn Cut(const std::vector<SceneMesh>& meshes, const std::vector<const YarnLumislices*>& yarns,
+            const PixelScale& scale, glm::vec3 forward, int lod_bias, LumisliceFrame& frame) {
+  CutYarn cut;
+  uint32_t chains = 0;
+  int levels = 0;
+  for (size_t m = 0; m < meshes.size() && m < yarns.size(); ++m) {
+    if (yarns[m] == nullptr) continue;
+    const v1::FabricSpec fabric = WithDefaults(meshes[m].object->fabric().fabric());
+    const uint32_t first_yarn = static_cast<uint32_t>(cut.atlas_yarns.size());
+    for (const Lumislice& slice : *yarns[m]) {
+      if (cut.resolution == 0) {
+        cut.resolution = slice.levels.front().resolution;
+        levels = static_cast<int>(slice.levels.size());
+      }
+      if (slice.levels.front().resolution != cut.resolution) {
+        throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: every lumislice of a frame needs the same "
+                                                 "resolution");
+      }
+      cut.atlas_yarns.push_back(&slice);
+    }
+    if (cut.atlas_yarns.size() > kMaxAtlasYarns) {
+      throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: at most " + std::to_string(kMaxAtlasYarns) +
+                                                   " yarns in a frame's knit cloth");
+    }
+    const KnitSkeleton skeleton = PlaceKnitSkeleton(
+        fabric, meshes[m].mesh, {meshes[m].object->fabric().repeat_u(), meshes[m].object->fabric().repeat_v()});
+    for (const SkeletonChain& chain : skeleton.chains) {
+      const std::vector<size_t> kept =
+          KeptPoints(chain, [&](glm::vec3 p) { return kMinSegmentPixels / scale.Pixels(p, 1.0f); });
+      const size_t n = kept.size();
+      float arc = 0.0f;
+      for (size_t i = 0; i + 1 < n; ++i) {
+        const glm::vec3 a = chain.points[kept[i]], b = chain.points[kept[i + 1]];
+        const glm::vec3 t = glm::normalize(b - a);
+        // The bisectors of the joints (a chain's ends are cut square).
+        const glm::vec3 before = i > 0 ? glm::normalize(a - chain.points[kept[i - 1]]) : t;
+        const glm::vec3 after = i + 2 < n ? glm::normalize(chain.points[kept[i + 2]] - b) : t;
+        const uint32_t yarn = chain.segment_yarn[kept[i]];
+        const float radius = 0.5f * (chain.radius[kept[i]] + chain.radius[kept[i + 1]]);
+        const Lumislice& slice = (*yarns[m])[yarn];
+        const glm::vec3 middle = 0.5f * (a + b);
+        // A section narrower than kMinYarnPixels is drawn that wide, its opacity scaled
+        // by the part of it the yarn covers.
+        const float pixels = scale.Pixels(middle, 2.0f * slice.section.extent() * radius);
+        const float widening = std::max(kMinYarnPixels / std::max(pixels, 1e-6f), 1.0f);
+        const int level =
+            std::clamp(LevelFor(pixels * widening, cut.resolution, levels) + lod_bias, 0, levels - 1);
+        SortedSegment sorted;
+        sorted.distance =
+            scale.orthographic ? glm::dot(middle - scale.eye, forward) : glm::distance(middle, scale.eye);
+        sorted.order = cut.segments.size();
+        sorted.segment.start = glm::vec4(a, chain.turn[kept[i]]);
+        sorted.segment.end = glm::vec4(b, chain.turn[kept[i + 1]]);
+        sorted.segment.normal = glm::vec4(chain.normals[kept[i]], radius * widening);
+        sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), 0.0f);
+        sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), 0.0f);
+        sorted.segment.shading = glm::vec4(1.0f / widening, static_cast<float>(level),
+                                           static_cast<float>(first_yarn + yarn), 0.0f);
+        cut.segments.push_back(sorted);
+        cut.casters.push_back({a, b, radius, first_yarn + yarn, chains, arc});
+        arc += glm::distance(a, b);
+        const float voxel =
+            2.0f * slice.section.extent() * radius * widening / static_cast<float>(cut.resolution >> level);
+        frame.slices += glm::distance(a, b) / voxel;
+        if (frame.segments_per_level.size() <= static_cast<size_t>(level)) {
+          frame.segments_per_level.resize(static_cast<size_t>(level) + 1, 0);
+        }
+        ++frame.segments_per_level[static_cast<size_t>(level)];
+      }
+      ++chains;
+    }
+  }
+  frame.segments = cut.segments.size();
+  return cut;
+}
+
 }  // namespace
 
 std::shared_ptr<const YarnLumislices> LumisliceCache::Find(const std::string& key) {
@@ -269,83 +393,16 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   const bool orthographic = scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC;
   const glm::vec3 forward = glm::normalize(ToGlm(scene.camera().target()) - ToGlm(scene.camera().position()));
 
-  // Every knit cloth's yarns: their lumislices in one atlas, their segments in one list.
-  std::vector<const Lumislice*> atlas_yarns;
-  std::vector<SortedSegment> segments;
-  std::vector<ShadowSegment> casters;  // the same segments, in the skeleton's order
-  uint32_t chains = 0;
   LumisliceFrame frame;
   const PixelScale scale{orthographic, camera.position,
                          orthographic ? static_cast<float>(height) / scene.camera().ortho_height()
                                       : static_cast<float>(height) /
                                             (2.0f * std::tan(glm::radians(scene.camera().fov_y_degrees()) * 0.5f))};
-  int resolution = 0, levels = 0;
   const int lod_bias = static_cast<int>(std::lround(settings.lod_bias()));
-  for (size_t m = 0; m < meshes.size() && m < yarns.size(); ++m) {
-    if (yarns[m] == nullptr) continue;
-    const v1::FabricSpec fabric = WithDefaults(meshes[m].object->fabric().fabric());
-    const uint32_t first_yarn = static_cast<uint32_t>(atlas_yarns.size());
-    for (const Lumislice& slice : *yarns[m]) {
-      if (resolution == 0) {
-        resolution = slice.levels.front().resolution;
-        levels = static_cast<int>(slice.levels.size());
-      }
-      if (slice.levels.front().resolution != resolution) {
-        throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: every lumislice of a frame needs the same "
-                                                 "resolution");
-      }
-      atlas_yarns.push_back(&slice);
-    }
-    if (atlas_yarns.size() > kMaxAtlasYarns) {
-      throw Error(ErrorCode::kInvalidArgument, "lumislice renderer: at most " + std::to_string(kMaxAtlasYarns) +
-                                                   " yarns in a frame's knit cloth");
-    }
-    const KnitSkeleton skeleton = PlaceKnitSkeleton(
-        fabric, meshes[m].mesh, {meshes[m].object->fabric().repeat_u(), meshes[m].object->fabric().repeat_v()});
-    for (const SkeletonChain& chain : skeleton.chains) {
-      const std::vector<size_t> kept =
-          KeptPoints(chain, [&](glm::vec3 p) { return kMinSegmentPixels / scale.Pixels(p, 1.0f); });
-      const size_t n = kept.size();
-      float arc = 0.0f;
-      for (size_t i = 0; i + 1 < n; ++i) {
-        const glm::vec3 a = chain.points[kept[i]], b = chain.points[kept[i + 1]];
-        const glm::vec3 t = glm::normalize(b - a);
-        // The bisectors of the joints (a chain's ends are cut square).
-        const glm::vec3 before = i > 0 ? glm::normalize(a - chain.points[kept[i - 1]]) : t;
-        const glm::vec3 after = i + 2 < n ? glm::normalize(chain.points[kept[i + 2]] - b) : t;
-        const uint32_t yarn = chain.segment_yarn[kept[i]];
-        const float radius = 0.5f * (chain.radius[kept[i]] + chain.radius[kept[i + 1]]);
-        const Lumislice& slice = (*yarns[m])[yarn];
-        const glm::vec3 middle = 0.5f * (a + b);
-        // A section narrower than kMinYarnPixels is drawn that wide, its opacity scaled
-        // by the part of it the yarn covers.
-        const float pixels = scale.Pixels(middle, 2.0f * slice.section.extent() * radius);
-        const float widening = std::max(kMinYarnPixels / std::max(pixels, 1e-6f), 1.0f);
-        const int level = std::clamp(LevelFor(pixels * widening, resolution, levels) + lod_bias, 0, levels - 1);
-        SortedSegment sorted;
-        sorted.distance = orthographic ? glm::dot(middle - camera.position, forward) : glm::distance(middle, camera.position);
-        sorted.order = segments.size();
-        sorted.segment.start = glm::vec4(a, chain.turn[kept[i]]);
-        sorted.segment.end = glm::vec4(b, chain.turn[kept[i + 1]]);
-        sorted.segment.normal = glm::vec4(chain.normals[kept[i]], radius * widening);
-        sorted.segment.start_plane = glm::vec4(glm::normalize(before + t), 0.0f);
-        sorted.segment.end_plane = glm::vec4(glm::normalize(t + after), 0.0f);
-        sorted.segment.shading = glm::vec4(1.0f / widening, static_cast<float>(level),
-                                           static_cast<float>(first_yarn + yarn), 0.0f);
-        segments.push_back(sorted);
-        casters.push_back({a, b, radius, first_yarn + yarn, chains, arc});
-        arc += glm::distance(a, b);
-        const float voxel = 2.0f * slice.section.extent() * radius * widening / static_cast<float>(resolution >> level);
-        frame.slices += glm::distance(a, b) / voxel;
-        if (frame.segments_per_level.size() <= static_cast<size_t>(level)) {
-          frame.segments_per_level.resize(static_cast<size_t>(level) + 1, 0);
-        }
-        ++frame.segments_per_level[static_cast<size_t>(level)];
-      }
-      ++chains;
-    }
-  }
-  frame.segments = segments.size();
+  CutYarn cut = Cut(meshes, yarns, scale, forward, lod_bias, frame);
+  const std::vector<const Lumislice*>& atlas_yarns = cut.atlas_yarns;
+  std::vector<SortedSegment>& segments = cut.segments;
+  const int resolution = cut.resolution;
   // Eq. 10's yarn shadow per segment and light.
   const int light_count = std::min(scene.lights_size(), kMaxLights);
   std::vector<std::vector<float>> yarn_shadows(static_cast<size_t>(light_count));
@@ -356,7 +413,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     profiles.extent.push_back(slice->section.extent());
   }
   for (int i = 0; i < light_count; ++i) {
-    yarn_shadows[static_cast<size_t>(i)] = YarnShadows(casters, profiles, MakeSceneLight(scene.lights(i)));
+    yarn_shadows[static_cast<size_t>(i)] = YarnShadows(cut.casters, profiles, MakeSceneLight(scene.lights(i)));
   }
   if (submission_seed != 0) {
     std::mt19937_64 random(submission_seed);
@@ -367,9 +424,6 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     return x.distance != y.distance ? x.distance > y.distance : x.order < y.order;
   });
 
-  // The segments in drawing order, and their yarn shadows, bound batch by batch: each a
-  // shader storage block (llvmpipe's holds 128 MiB) and a multiple of 256 segments so
-  // that both ranges keep their offset alignment.
   std::vector<GpuSegment> ordered(segments.size());
   const size_t lights = static_cast<size_t>(std::max(light_count, 1));
   std::vector<float> shadows(std::max<size_t>(segments.size() * lights, 1), 1.0f);
@@ -379,27 +433,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
       shadows[k * lights + static_cast<size_t>(i)] = yarn_shadows[static_cast<size_t>(i)][segments[k].order];
     }
   }
-  GLuint segment_buffers[2] = {0, 0};
-  glCreateBuffers(2, segment_buffers);
-  glNamedBufferStorage(segment_buffers[0], static_cast<GLsizeiptr>(std::max<size_t>(ordered.size(), 1) * sizeof(GpuSegment)),
-                       ordered.empty() ? nullptr : ordered.data(), 0);
-  glNamedBufferStorage(segment_buffers[1], static_cast<GLsizeiptr>(shadows.size() * sizeof(float)), shadows.data(), 0);
-  GLint block = 0;
-  glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-  const size_t batch =
-      std::max<size_t>(static_cast<size_t>(block) / std::max(sizeof(GpuSegment), sizeof(float) * lights) / 256 * 256, 256);
-  const auto for_each_batch = [&](const YarnShadowMap::DrawBatch& draw) {
-    for (size_t first = 0; first < ordered.size(); first += batch) {
-      const size_t count = std::min(batch, ordered.size() - first);
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, segment_buffers[0],
-                        static_cast<GLintptr>(first * sizeof(GpuSegment)),
-                        static_cast<GLsizeiptr>(count * sizeof(GpuSegment)));
-      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 1, segment_buffers[1],
-                        static_cast<GLintptr>(first * lights * sizeof(float)),
-                        static_cast<GLsizeiptr>(count * lights * sizeof(float)));
-      draw(static_cast<GLsizei>(count));
-    }
-  };
+  const SegmentBuffers segment_buffers(ordered, shadows, lights);
 
   // Plain objects: opaque, with their macro shadows and the yarn's (eq. 10 in the maps'
   // light views); they cast the only shadow maps.
@@ -420,7 +454,8 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   if (!yarn_shadow_map_ || yarn_shadow_map_->size() != shadows_->size()) {
     yarn_shadow_map_ = std::make_unique<YarnShadowMap>(shadows_->size());
   }
-  yarn_shadow_map_->Render(shadows_->matrices(), atlas_yarns, for_each_batch);
+  yarn_shadow_map_->Render(shadows_->matrices(), atlas_yarns,
+                           [&](const YarnShadowMap::DrawBatch& draw) { segment_buffers.ForEachBatch(draw); });
 
   const LumisliceTarget target(width, height);
   target.BindOpaque();
@@ -494,7 +529,8 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
     glNamedBufferStorage(indices, sizeof(kBoxIndices), kBoxIndices, 0);
     glVertexArrayElementBuffer(vao, indices);
     glBindVertexArray(vao);
-    for_each_batch([](GLsizei count) { glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, count); });
+    segment_buffers.ForEachBatch(
+        [](GLsizei count) { glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, count); });
     glBindVertexArray(0);
     glDeleteVertexArrays(1, &vao);
     glDeleteBuffers(1, &indices);
@@ -503,7 +539,6 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   }
   cloth_timer.Stop();
   timer.Stop();
-  glDeleteBuffers(2, segment_buffers);
   frame.rendered.image = target.ReadPixels();
   frame.rendered.gpu_ms = timer.Milliseconds();
   frame.rendered.cloth_gpu_ms = cloth_timer.Milliseconds();
