@@ -109,4 +109,15 @@ Image FlippedRows(const Image& image) {
   return flipped;
 }
 
+Image BoxDownsampled(const Image& image, int factor) {
+  Image small(image.width / factor, image.height / factor, image.channels);
+  const float weight = 1.0f / static_cast<float>(factor * factor);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (int c = 0; c < image.channels; ++c) small.at(x / factor, y / factor, c) += weight * image.at(x, y, c);
+    }
+  }
+  return small;
+}
+
 }  // namespace loom

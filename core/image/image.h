@@ -27,6 +27,10 @@ struct Image {
 // are stored top row first.
 Image FlippedRows(const Image& image);
 
+// Each `factor` × `factor` block of `image` averaged into one pixel; `image`'s sides are
+// multiples of factor.
+Image BoxDownsampled(const Image& image, int factor);
+
 enum class ImageFileFormat { kPng, kExr };
 
 // From the file extension (.png, .exr); throws Error(kInvalidArgument) otherwise.

@@ -16,6 +16,7 @@
 #include "core/scene/scene_light.h"
 #include "core/scene/camera.h"
 #include "core/spec/defaults.h"
+#include "core/spec/limits.h"
 #include "core/util/error.h"
 #include "core/util/stopwatch.h"
 
@@ -387,7 +388,9 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   const Stopwatch stopwatch;
   context_.MakeCurrent();
   const v1::RenderSettings& settings = scene.render();
-  const int width = static_cast<int>(settings.width()), height = static_cast<int>(settings.height());
+  // A grid of rays a pixel: the frame that many times larger, averaged at the end.
+  const int grid = static_cast<int>(LumisliceRayGrid(settings.msaa_samples()));
+  const int width = grid * static_cast<int>(settings.width()), height = grid * static_cast<int>(settings.height());
   const CameraMatrices camera =
       MakeCameraMatrices(scene.camera(), static_cast<float>(width) / static_cast<float>(height));
   const bool orthographic = scene.camera().projection() == v1::PROJECTION_ORTHOGRAPHIC;
@@ -539,7 +542,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   }
   cloth_timer.Stop();
   timer.Stop();
-  frame.rendered.image = target.ReadPixels();
+  frame.rendered.image = grid > 1 ? BoxDownsampled(target.ReadPixels(), grid) : target.ReadPixels();
   frame.rendered.gpu_ms = timer.Milliseconds();
   frame.rendered.cloth_gpu_ms = cloth_timer.Milliseconds();
   frame.rendered.cpu_ms = stopwatch.Milliseconds();

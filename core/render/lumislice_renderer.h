@@ -20,6 +20,8 @@
 // Far away a chain's points closer than a pixel are merged, and a yarn narrower than a
 // pixel is drawn a pixel wide with its opacity scaled by its coverage
 // (lumislice_segment.glsl).
+// render.msaa_samples are rays a pixel on the nearest square grid (core/spec/limits.h
+// LumisliceRayGrid): the frame rendered that many times larger and averaged.
 // What is left out and measured: docs/lumislice.md.
 
 #include <cstdint>

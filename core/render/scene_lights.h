@@ -8,11 +8,10 @@
 #include "core/gl/shader_program.h"
 #include "core/render/shadow_maps.h"
 #include "core/scene/scene_geometry.h"
+#include "core/spec/limits.h"  // kMaxLights, as in lights.glsl
 #include "loom/v1/scene.pb.h"
 
 namespace loom {
-
-inline constexpr int kMaxLights = 16;  // as in lights.glsl and core/spec/limits.h
 
 // What the shadow maps must cover: the meshes' bounding sphere.
 SceneBounds SceneBoundsOf(const std::vector<SceneMesh>& meshes);

@@ -146,6 +146,14 @@ inline constexpr uint32_t kMaxImageSide = 8192;
 inline constexpr uint64_t kMaxImagePixels = uint64_t{8192} * 4096;
 // MSAA sample counts GL implementations offer; any power of two up to this.
 inline constexpr uint32_t kMaxMsaaSamples = 16;
+// RENDER_METHOD_LUMISLICE takes msaa_samples as rays a pixel on the nearest square
+// grid (1, 2 → 1×1; 4 → 2×2; 8 → 3×3; 16 → 4×4): the grid's side. It renders the frame
+// that many times wider and higher, within kMaxImageSide and kMaxImagePixels.
+constexpr uint32_t LumisliceRayGrid(uint32_t msaa_samples) {
+  uint32_t side = 1;
+  while ((side + 1) * (side + 1) <= msaa_samples) ++side;
+  return msaa_samples - side * side > (side + 1) * (side + 1) - msaa_samples ? side + 1 : side;
+}
 // Shadow-map side in texels.
 inline constexpr uint32_t kMinShadowMapSize = 256;
 inline constexpr uint32_t kMaxShadowMapSize = 8192;

@@ -493,6 +493,14 @@ void CheckScene(const v1::SceneSpec& scene, const IssueCollector& at) {
   at.Colour("background", scene.background(), 0);
   CheckRender(scene.render(), at.Field("render"));
   if (scene.render().method() == v1::RENDER_METHOD_LUMISLICE) {
+    const uint64_t grid = LumisliceRayGrid(scene.render().msaa_samples());
+    const uint64_t width = grid * scene.render().width(), height = grid * scene.render().height();
+    if (grid > 1 && (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)) {
+      at.Field("render").Report("msaa_samples",
+                                Cat(scene.render().msaa_samples(), " rays a pixel (", grid, " × ", grid,
+                                    ") make RENDER_METHOD_LUMISLICE render ", width, " × ", height,
+                                    " pixels: at most ", kMaxImageSide, " a side and ", kMaxImagePixels, " in all"));
+    }
     for (int i = 0; i < scene.objects_size(); ++i) {
       const v1::SceneObject& object = scene.objects(i);
       if (object.has_fabric() && !object.fabric().fabric().has_knit()) {

@@ -134,15 +134,7 @@ TEST(LumisliceRenderer, SubPixelYarnGivesTheFinerFramesPixelMean) {
   const Prepared fine = Prepare(KnitScene(kSide * kFactor, 24, false, "RENDER_METHOD_LUMISLICE"));
   const LumisliceFrame near = Renderer().Render(fine.scene, fine.meshes, fine.yarns);
   EXPECT_LT(far.segments * 2, near.segments);
-  Image averaged(kSide, kSide, 4);
-  for (int y = 0; y < kSide * kFactor; ++y) {
-    for (int x = 0; x < kSide * kFactor; ++x) {
-      for (int c = 0; c < 4; ++c) {
-        averaged.at(x / kFactor, y / kFactor, c) += near.rendered.image.at(x, y, c) / (kFactor * kFactor);
-      }
-    }
-  }
-  const ImageComparison comparison = CompareImages(far.rendered.image, averaged);
+  const ImageComparison comparison = CompareImages(far.rendered.image, BoxDownsampled(near.rendered.image, kFactor));
   EXPECT_GT(comparison.psnr_db, 15.0);
   EXPECT_NEAR(comparison.mean_ratio, 0.85, 0.15);
 }
@@ -212,6 +204,22 @@ TEST(LumisliceRenderer, TheYarnShadowsPlainObjectsUnderIt) {
   const double shadowed = mean(frame, 0.55f, 0.65f) / lit;
   EXPECT_LT(shadowed, 0.7) << shadowed;
   EXPECT_GT(shadowed, 0.05) << shadowed;
+}
+
+// render.msaa_samples 4: 2 × 2 rays a pixel, the same as the frame twice as large
+// averaged, and closer to the reference's 16 samples a pixel than one ray.
+TEST(LumisliceRenderer, RaysAPixelAverageTheLargerFrame) {
+  Prepared p = Prepare(KnitScene(48, 3, false, "RENDER_METHOD_LUMISLICE"));
+  const Image one_ray = Renderer().Render(p.scene, p.meshes, p.yarns).rendered.image;
+  p.scene.mutable_render()->set_msaa_samples(4);
+  const Image four_rays = Renderer().Render(p.scene, p.meshes, p.yarns).rendered.image;
+  const Prepared large = Prepare(KnitScene(96, 3, false, "RENDER_METHOD_LUMISLICE"));
+  const Image averaged = BoxDownsampled(Renderer().Render(large.scene, large.meshes, large.yarns).rendered.image, 2);
+  EXPECT_LT(MaxDifference(four_rays, averaged), 1e-6);
+  v1::SceneSpec reference_scene = p.scene;
+  reference_scene.mutable_render()->set_method(v1::RENDER_METHOD_REFERENCE);
+  const Image reference = ReferenceRenderer(2).Render(reference_scene, p.meshes).image;
+  EXPECT_GT(CompareImages(four_rays, reference).psnr_db, CompareImages(one_ray, reference).psnr_db + 0.5);
 }
 
 }  // namespace

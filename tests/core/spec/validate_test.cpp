@@ -465,6 +465,28 @@ TEST(Validate, LumisliceRendersKnitCloth) {
             "scene.objects[0].fabric.fabric: RENDER_METHOD_LUMISLICE renders knit fabrics only");
 }
 
+// msaa_samples are lumislice's rays a pixel on the nearest square grid; the frame that
+// many times larger must fit the frame limits.
+TEST(Validate, LumisliceRaysAPixelFitTheFrameLimits) {
+  EXPECT_EQ(LumisliceRayGrid(1), 1u);
+  EXPECT_EQ(LumisliceRayGrid(2), 1u);
+  EXPECT_EQ(LumisliceRayGrid(4), 2u);
+  EXPECT_EQ(LumisliceRayGrid(8), 3u);
+  EXPECT_EQ(LumisliceRayGrid(16), 4u);
+  const std::string cloth = R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": {"fabric": {"knit": {}}}}],
+      "render": {"method": "RENDER_METHOD_LUMISLICE", )";
+  EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(
+                SceneJson(cloth + R"("width": 2048, "height": 1024, "msaa_samples": 16}})"), "scene")),
+            "");
+  EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(
+                SceneJson(cloth + R"("width": 4096, "height": 2048, "msaa_samples": 4}})"), "scene")),
+            "");
+  EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(
+                SceneJson(cloth + R"("width": 4096, "height": 2048, "msaa_samples": 8}})"), "scene")),
+            "scene.render.msaa_samples: 8 rays a pixel (3 × 3) make RENDER_METHOD_LUMISLICE render 12288 × 6144 "
+            "pixels: at most 8192 a side and 33554432 in all");
+}
+
 TEST(Validate, PointLightNeedsNoDirection) {
   const std::string json = SceneJson(R"({"lights": [{"type": "LIGHT_TYPE_POINT", "position": {"z": 3}}]})");
   EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(json, "scene")), "");
@@ -676,6 +698,14 @@ TEST(Defaults, RenderSettings) {
   EXPECT_EQ(s.shadow_map_size(), 2048u);
   EXPECT_EQ(s.reference_samples(), 64u);
   EXPECT_EQ(s.format(), v1::IMAGE_FORMAT_UNSPECIFIED);
+}
+
+TEST(Defaults, LumisliceTakesOneRayAPixel) {
+  v1::RenderSettings settings;
+  settings.set_method(v1::RENDER_METHOD_LUMISLICE);
+  EXPECT_EQ(WithDefaults(settings).msaa_samples(), 1u);
+  settings.set_msaa_samples(4);
+  EXPECT_EQ(WithDefaults(settings).msaa_samples(), 4u);
 }
 
 TEST(Defaults, Scene) {
