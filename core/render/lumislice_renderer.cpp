@@ -457,7 +457,7 @@ LumisliceFrame LumisliceRenderer::Render(const v1::SceneSpec& scene, const std::
   if (!yarn_shadow_map_ || yarn_shadow_map_->size() != shadows_->size()) {
     yarn_shadow_map_ = std::make_unique<YarnShadowMap>(shadows_->size());
   }
-  yarn_shadow_map_->Render(shadows_->matrices(), atlas_yarns,
+  yarn_shadow_map_->Render(*shadows_, atlas_yarns,
                            [&](const YarnShadowMap::DrawBatch& draw) { segment_buffers.ForEachBatch(draw); });
 
   const LumisliceTarget target(width, height);

@@ -308,22 +308,30 @@ class Tracer {
   }
 
  private:
-  // What reaches `origin` of a directional light at the macro scale (1 unblocked, 0
-  // in shadow). Plain objects block it; cloth blocks it where the light's ray through
-  // its shell meets tube yarn, so holes cast light, not shadow; volumetric yarn passes
-  // its transmittance.
+  // What reaches `origin` of a light at the macro scale (1 unblocked, 0 in shadow):
+  // along the light's direction, or up to a point light. Plain objects block it; cloth
+  // blocks it where the light's ray through its shell meets tube yarn, so holes cast
+  // light, not shadow; volumetric yarn passes its transmittance.
   float MacroTransmittance(const SceneLight& light, glm::vec3 origin, float jitter, uint64_t& rays) const {
-    if (!light.directional || !light.casts_shadows) return 1.0f;
+    if (!light.casts_shadows) return 1.0f;
+    glm::vec3 direction = light.vector;
+    float tfar = kInfinity;
+    if (!light.directional) {
+      tfar = glm::length(light.vector - origin);
+      if (tfar <= epsilon_) return 1.0f;
+      direction = (light.vector - origin) / tfar;
+      tfar -= epsilon_;
+    }
     float tnear = epsilon_;
     float transmittance = 1.0f;
     for (int crossing = 0; crossing < kMaxSurfaceCrossings; ++crossing) {
       ++rays;
-      const std::optional<MacroHit> hit = macro_.Intersect(origin, light.vector, tnear, kInfinity);
+      const std::optional<MacroHit> hit = macro_.Intersect(origin, direction, tnear, tfar);
       if (!hit) return transmittance;
       const ClothFabric* cloth = cloth_[hit->mesh].get();
       if (!cloth) return 0.0f;
-      const MacroSurface surface = MakeMacroSurface(meshes_[hit->mesh].mesh, *hit, origin, light.vector, cloth->repeat);
-      if (const std::optional<ShellRay> ray = EnterShell(*cloth, surface, light.vector)) {
+      const MacroSurface surface = MakeMacroSurface(meshes_[hit->mesh].mesh, *hit, origin, direction, cloth->repeat);
+      if (const std::optional<ShellRay> ray = EnterShell(*cloth, surface, direction)) {
         ++rays;
         if (cloth->tile.volume) {
           transmittance *= VolumeTransmittance(*cloth->tile.volume, ray->entry, ray->direction, jitter);
@@ -400,13 +408,13 @@ class Tracer {
     return {radiance, 0.0f};
   }
 
-  // What of a directional light reaches a point at tile height z (world position
-  // `world`) from outside the shell: leave the shell along the light (tile direction
-  // l), through its top face or, for light from behind the surface, its bottom face,
-  // then test the world.
+  // What of a light reaches a point at tile height z (world position `world`) from
+  // outside the shell: leave the shell along the light (tile direction l), through its
+  // top face or, for light from behind the surface, its bottom face, then test the
+  // world.
   float ShellExitTransmittance(const ClothFabric& cloth, const SceneLight& light, const SurfaceFrame& frame,
                                glm::vec3 world, float z, glm::vec3 l, float jitter, uint64_t& rays) const {
-    if (!light.directional || !light.casts_shadows) return 1.0f;
+    if (!light.casts_shadows) return 1.0f;
     if (l.z == 0.0f) return 0.0f;
     const float face = l.z > 0.0f ? cloth.tile.z_max + kShellTopOffset : cloth.tile.z_min - kShellTopOffset;
     const glm::vec3 exit = world + frame.ToWorld(l * ((face - z) / l.z));

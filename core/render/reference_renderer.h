@@ -42,9 +42,9 @@
 //   the fabric's top face faces it on either side.
 // - Objects inside a shell (closer to the surface than the yarn's height) are not
 //   seen through its holes: a ray that passes a hole continues from the surface.
-// - Macro shadows (directional lights with casts_shadows, as in the svbrdf
-//   renderer): a yarn point's shadow ray leaves the shell along the light's
-//   tile-space direction, then goes on in world space. Plain objects block it;
+// - Macro shadows (lights with casts_shadows, as in the svbrdf renderer; a point
+//   light's shadow ray ends at the light): a yarn point's shadow ray leaves the
+//   shell along the light's tile-space direction, then goes on in world space. Plain objects block it;
 //   cloth blocks it where the light's ray through that cloth's shell meets yarn, so
 //   holes let light through (lacy shadows; yarn that transmits still blocks it
 //   there). Light from behind the surface (tile z < 0) reaches the yarn through

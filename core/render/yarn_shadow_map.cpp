@@ -1,17 +1,13 @@
 #include "core/render/yarn_shadow_map.h"
 
+#include <algorithm>
+
 #include "core/util/error.h"
 
 namespace loom {
 
 YarnShadowMap::YarnShadowMap(int size)
     : size_(size), program_(gl::ShaderProgram::FromEmbedded("yarn_shadow_map.vert", "yarn_shadow_map.frag")) {
-  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture_);
-  glTextureStorage3D(texture_, 1, GL_RGBA16F, size_, size_, kMaxShadowMaps);
-  glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(texture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &vao_);
 }
@@ -23,16 +19,27 @@ YarnShadowMap::~YarnShadowMap() {
   glDeleteTextures(1, &texture_);
 }
 
-void YarnShadowMap::Render(const std::vector<glm::mat4>& matrices, const std::vector<const Lumislice*>& yarns,
+void YarnShadowMap::Render(const ShadowMaps& shadows, const std::vector<const Lumislice*>& yarns,
                            const std::function<void(const DrawBatch& draw)>& for_each_batch) {
+  const int layers = shadows.layer_count();
+  if (std::max(layers, 1) > allocated_layers_) {
+    allocated_layers_ = std::max(layers, 1);
+    glDeleteTextures(1, &texture_);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture_);
+    glTextureStorage3D(texture_, 1, GL_RGBA16F, size_, size_, allocated_layers_);
+    glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(texture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   glViewport(0, 0, size_, size_);
   const GLfloat clear[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-  for (size_t layer = 0; layer < matrices.size() && layer < kMaxShadowMaps; ++layer) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, static_cast<GLint>(layer));
+  for (int layer = 0; layer < layers; ++layer) {
+    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, layer);
     glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, clear);
   }
-  if (matrices.empty() || yarns.empty()) return;
+  if (layers == 0 || yarns.empty()) return;
   std::vector<float> profiles;
   for (const Lumislice* yarn : yarns) profiles.insert(profiles.end(), yarn->shadow_profile.begin(), yarn->shadow_profile.end());
   glDeleteTextures(1, &profiles_);
@@ -56,12 +63,13 @@ void YarnShadowMap::Render(const std::vector<glm::mat4>& matrices, const std::ve
   program_.Set("u_texel", 1.0f / static_cast<float>(size_));
   for (size_t i = 0; i < yarns.size(); ++i) program_.Set("u_extent", static_cast<int>(i), yarns[i]->section.extent());
   glBindVertexArray(vao_);
-  for (size_t layer = 0; layer < matrices.size() && layer < kMaxShadowMaps; ++layer) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, static_cast<GLint>(layer));
+  for (int layer = 0; layer < layers; ++layer) {
+    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, layer);
     if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       throw Error(ErrorCode::kInternal, "yarn shadow map: framebuffer incomplete");
     }
-    program_.Set("u_light_matrix", matrices[layer]);
+    program_.Set("u_light_matrix", shadows.matrix(layer));
+    program_.Set("u_map_scale", shadows.map_scale(layer));
     for_each_batch([](GLsizei count) { glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, count); });
   }
   glBindVertexArray(0);

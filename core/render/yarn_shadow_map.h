@@ -28,10 +28,11 @@ class YarnShadowMap {
 
   // Draws `draw(count)` for `count` segments now bound (lumislice_segment.glsl).
   using DrawBatch = std::function<void(GLsizei count)>;
-  // Renders a layer per matrix (world → the shadow map's [0,1]³, ShadowMaps::matrices).
-  // `yarns` are the lumislices of the segments' yarn indices; `for_each_batch(draw)`
-  // binds the segments batch by batch, calling draw for each.
-  void Render(const std::vector<glm::mat4>& matrices, const std::vector<const Lumislice*>& yarns,
+  // Renders a layer per layer of `shadows` (its last Render), in that layer's light
+  // view. `yarns` are the lumislices of the segments' yarn indices;
+  // `for_each_batch(draw)` binds the segments batch by batch, calling draw for each.
+  // The texture grows to the layers asked for (texture() may change).
+  void Render(const ShadowMaps& shadows, const std::vector<const Lumislice*>& yarns,
               const std::function<void(const DrawBatch& draw)>& for_each_batch);
 
   GLuint texture() const { return texture_; }
@@ -39,6 +40,7 @@ class YarnShadowMap {
 
  private:
   int size_;
+  int allocated_layers_ = 0;
   GLuint texture_ = 0, profiles_ = 0, framebuffer_ = 0, vao_ = 0;
   gl::ShaderProgram program_;
 };

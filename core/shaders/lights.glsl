@@ -2,21 +2,23 @@
 // Light i: u_light_vector[i].w = 0 for directional lights (xyz = unit direction
 // towards the light), 1 for point lights (xyz = position). u_light_radiance[i] is
 // the irradiance at normal incidence (directional) or the intensity (point,
-// irradiance = intensity / distance²). u_light_shadow[i] is a layer of
-// u_shadow_maps or −1.
+// irradiance = intensity / distance²). u_light_shadow[i] is the first layer of
+// light i's shadow map in u_shadow_maps, or −1: a directional light's one layer, a
+// point light's six cube faces (+x, −x, +y, −y, +z, −z; core/render/shadow_maps.h).
 
 #include "constants.glsl"
 
 const int kMaxLights = 16;
-const int kMaxShadowMaps = 4;
+const int kMaxShadowLayers = 24;  // 4 lights × 6 faces
 
 uniform int u_light_count;
 uniform vec4 u_light_vector[kMaxLights];
 uniform vec3 u_light_radiance[kMaxLights];
 uniform int u_light_shadow[kMaxLights];
-uniform mat4 u_shadow_matrix[kMaxShadowMaps];  // world → shadow map [0,1]³
+uniform mat4 u_shadow_matrix[kMaxShadowLayers];  // world → the layer's [0,1]³
 uniform sampler2DArrayShadow u_shadow_maps;
-uniform float u_shadow_bias;
+uniform float u_shadow_bias;        // world units, directional layers
+uniform float u_shadow_point_bias;  // per unit of distance from a point light
 #ifdef LOOM_YARN_SHADOWS
 // Per shadow map layer, the lumislice yarn over it (core/render/yarn_shadow_map.h): RGB
 // the light the yarn lets through, A the nearest yarn's depth.
@@ -41,8 +43,15 @@ vec3 LightDirection(int i, vec3 position, out vec3 irradiance) {
 float LightVisibility(int i, vec3 position, vec3 normal) {
   int layer = u_light_shadow[i];
   if (layer < 0) return 1.0;
+  float bias = u_shadow_bias;
+  if (u_light_vector[i].w != 0.0) {
+    vec3 d = position - u_light_vector[i].xyz;
+    vec3 a = abs(d);
+    layer += a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1) : a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5);
+    bias = u_shadow_point_bias * length(d);
+  }
   // Offset along the normal against acne on surfaces that face the light obliquely.
-  vec4 p = u_shadow_matrix[layer] * vec4(position + normal * u_shadow_bias, 1.0);
+  vec4 p = u_shadow_matrix[layer] * vec4(position + normal * bias, 1.0);
   vec3 uvz = p.xyz / p.w;
   if (any(lessThan(uvz, vec3(0.0))) || any(greaterThan(uvz, vec3(1.0)))) return 1.0;
   vec2 texel = 1.0 / vec2(textureSize(u_shadow_maps, 0).xy);

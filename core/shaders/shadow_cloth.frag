@@ -14,7 +14,7 @@ in vec3 v_normal;
 in vec4 v_tangent;
 in vec2 v_uv;
 
-uniform vec3 u_towards_light;  // unit, world
+uniform vec4 u_light;  // world: w 0, xyz the unit direction towards the light; w 1, xyz its position
 uniform int u_dither_seed;     // the caster's index: two cloth objects never share a pattern
 
 // Bayer's 4×4 thresholds, (i + ½)/16 in this order.
@@ -22,7 +22,8 @@ const float kBayer[16] = float[](0.0, 8.0, 2.0, 10.0, 12.0, 4.0, 14.0, 6.0, 3.0,
 
 void main() {
   mat3 frame = ClothFrame(v_normal, v_tangent, gl_FrontFacing);  // facing the light
-  vec3 light = transpose(frame) * u_towards_light;
+  vec3 towards_light = u_light.w == 0.0 ? u_light.xyz : normalize(u_light.xyz - v_position);
+  vec3 light = transpose(frame) * towards_light;
   vec2 tile = FabricTile(v_uv, light);
   float coverage = FabricCoverage(tile, FabricLevels(tile), light);
   // The pattern is shifted per tile and per object, so two layers of cloth over one

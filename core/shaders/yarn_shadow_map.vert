@@ -5,7 +5,8 @@
 
 #include "lumislice_segment.glsl"
 
-uniform mat4 u_light_matrix;  // world → the map's [0,1]³
+uniform mat4 u_light_matrix;  // world → the map's [0,1]³ (clip space: w the depth from a point light)
+uniform float u_map_scale;    // map units per world unit across the view at w = 1
 uniform float u_texel;        // one texel, in map units
 
 flat out vec3 v_start, v_end;  // the centre line's ends in map space
@@ -17,11 +18,17 @@ out vec2 v_uv;
 void main() {
   Segment s = segments[gl_InstanceID];
   SegmentFrame f = FrameOf(s);
-  // An orthographic light view: one world unit spans the same in x and y.
-  float scale = length(vec3(u_light_matrix[0][0], u_light_matrix[1][0], u_light_matrix[2][0]));
-  v_start = (u_light_matrix * vec4(s.start.xyz, 1.0)).xyz;
-  v_end = (u_light_matrix * vec4(s.end.xyz, 1.0)).xyz;
-  v_radius_map = f.radius * s.shading.x * scale;
+  vec4 start = u_light_matrix * vec4(s.start.xyz, 1.0);
+  vec4 end = u_light_matrix * vec4(s.end.xyz, 1.0);
+  if (start.w <= 0.0 || end.w <= 0.0) {  // beside or behind a point light: not in this face
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
+  v_start = start.xyz / start.w;
+  v_end = end.xyz / end.w;
+  // Across the light's view a world unit spans the same in x and y, less with depth
+  // from a point light (the segment is short against that depth).
+  v_radius_map = f.radius * s.shading.x * u_map_scale * 2.0 / (start.w + end.w);
   v_reach = u_extent[f.yarn] * v_radius_map;
   v_yarn = f.yarn;
   vec2 along = v_end.xy - v_start.xy;

@@ -18,6 +18,7 @@
 #include "core/spec/validate.h"
 #include "tests/core/render/comparison_scene.h"
 #include "tests/core/render/image_probes.h"
+#include "tests/core/render/point_shadow_scene.h"
 
 namespace loom {
 namespace {
@@ -187,6 +188,21 @@ TEST(ReferenceRenderer, KnitSphereAndCylinderAt64x64Render) {
       for (int x = 0; x < 32; ++x) lit += image.at(x, y, 0) > 0.05f;
     EXPECT_GT(lit, 32) << shape;  // yarn covers part of the frame
   }
+}
+
+// A point light's shadow ray ends at the light: the sphere's shadow falls where the
+// rays to it meet the sphere (as the GPU renderer's cube maps, svbrdf_renderer_test.cpp).
+TEST(ReferenceRenderer, APointLightsShadowFallsWhereItsRaysMeetTheSphere) {
+  const testing::PointShadowCheck shadowed =
+      testing::CheckPointShadow(RenderJson(testing::PointShadowSceneJson(true, "RENDER_METHOD_REFERENCE")).image);
+  EXPECT_GT(shadowed.inside, 200);
+  EXPECT_EQ(shadowed.dark_inside, shadowed.inside);
+  EXPECT_GT(shadowed.outside, 2000);
+  // Lambert's at the pixel's centre; the reference averages samples over the pixel.
+  EXPECT_LT(shadowed.worst_outside, 2e-2);
+  const testing::PointShadowCheck unshadowed =
+      testing::CheckPointShadow(RenderJson(testing::PointShadowSceneJson(false, "RENDER_METHOD_REFERENCE")).image);
+  EXPECT_EQ(unshadowed.dark_inside, 0);
 }
 
 TEST(ReferenceRenderer, FramesAreBitIdenticalWhateverTheThreadCount) {

@@ -15,6 +15,7 @@
 #include "core/spec/spec_json.h"
 #include "core/spec/validate.h"
 #include "tests/core/render/image_probes.h"
+#include "tests/core/render/point_shadow_scene.h"
 
 namespace loom {
 namespace {
@@ -95,6 +96,21 @@ TEST(GpuRenderer, ASphereShadowsThePlaneBelowIt) {
   const RenderedFrame unshadowed = RenderJson(PlaneScene(sphere,
       R"({"direction": {"x": -0.25, "y": 0, "z": 1}, "intensity": 1, "casts_shadows": false})"));
   EXPECT_NEAR(unshadowed.image.at(56, 16, 0), lit, 1e-4f);
+}
+
+// A point light's shadow (six cube faces) falls where the rays to the light meet the
+// sphere, across the seam of two faces; without casts_shadows there is none.
+TEST(GpuRenderer, APointLightsShadowFallsWhereItsRaysMeetTheSphere) {
+  const testing::PointShadowCheck shadowed =
+      testing::CheckPointShadow(RenderJson(testing::PointShadowSceneJson(true, "RENDER_METHOD_SVBRDF")).image);
+  EXPECT_GT(shadowed.inside, 200);
+  EXPECT_GT(shadowed.inside_plus_x_face, 50);
+  EXPECT_EQ(shadowed.dark_inside, shadowed.inside);
+  EXPECT_GT(shadowed.outside, 2000);
+  EXPECT_LT(shadowed.worst_outside, 1e-3);
+  const testing::PointShadowCheck unshadowed =
+      testing::CheckPointShadow(RenderJson(testing::PointShadowSceneJson(false, "RENDER_METHOD_SVBRDF")).image);
+  EXPECT_EQ(unshadowed.dark_inside, 0);
 }
 
 TEST(GpuRenderer, MsaaAveragesEdgesAgainstTheBackground) {
