@@ -247,7 +247,7 @@ std::vector<float> ViewDepthHeights(const PeriodicScene& scene, const RadianceSa
 // each of the batch's lights' radiance, premultiplied by the ray's opacity, to
 // scratch.sum; returns the opacity.
 float AcquireVolumeRay(const TexelPass& pass, const RadianceSamples& samples, glm::vec3 start, glm::vec3 v, float jitter,
-                       TexelScratch& scratch, uint64_t& rays) {
+                       TexelScratch& scratch) {
   const float transmittance = MarchVolume(*pass.tile.volume, start, -v, jitter, [&](const VolumeStep& step) {
     const YarnMaterial& material = pass.tile.materials[step.sample.material];
     for (size_t light = 0; light < pass.light_count; ++light) {
@@ -285,7 +285,7 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
             normal_sum += point.front ? point.normal : -point.normal;
           }
           RandomStream jitter(pass.seed, RandomStream::kVolumeJitter, (texel * samples.view_count() + view) * s * s + j * s + i);
-          covered += AcquireVolumeRay(pass, samples, start, v, jitter.Uniform(), scratch, rays);
+          covered += AcquireVolumeRay(pass, samples, start, v, jitter.Uniform(), scratch);
           continue;
         }
         if (!hit) continue;

@@ -86,12 +86,10 @@ void FabricAsset::Write(const v1::PrecomputeSettings& settings, const std::strin
   } else {
     recorded.clear_transmission();
   }
-  if (colour_channels_) {
-    recorded.set_colour_components(true);
-  } else {
+  if (!colour_channels_) {
     recorded.clear_colour_components();
-  }
-  if (colour_channels_) {
+  } else {
+    recorded.set_colour_components(true);
     std::filesystem::create_directories(directory);
     std::vector<SheetChannels> channels = {*colour_channels_};
     for (size_t i = 0; i < colour_sheets_.size(); ++i) {
