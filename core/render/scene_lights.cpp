@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <string>
 
+#include <spdlog/spdlog.h>
+
 #include "core/scene/scene_light.h"
 
 namespace loom {
@@ -25,6 +27,10 @@ void SetUpLights(const v1::SceneSpec& scene, const SceneBounds& bounds,
     lights.push_back(MakeSceneLight(scene.lights(i)));
     const SceneLight& light = lights.back();
     const bool shadowed = casters && light.casts_shadows && shadow_lights.size() < kMaxShadowMaps;
+    if (casters && light.casts_shadows && !shadowed) {
+      spdlog::warn("scene.lights[{}].casts_shadows: only the first {} shadow-casting lights cast shadows; this one casts none",
+                   i, kMaxShadowMaps);
+    }
     shadow_of_light.push_back(shadowed ? static_cast<int>(shadow_lights.size()) : -1);
     if (shadowed) shadow_lights.push_back({light.vector, light.directional});
   }
