@@ -46,7 +46,7 @@ LayerView PointFaceView(glm::vec3 position, int face, const SceneBounds& bounds)
 }  // namespace
 
 ShadowMaps::ShadowMaps(int size)
-    : size_(size),
+    : texture_(GL_DEPTH_COMPONENT32F, size, true),
       opaque_program_(gl::ShaderProgram::FromEmbedded("shadow_depth")),
       cloth_program_(gl::ShaderProgram::FromEmbedded("scene.vert", "shadow_cloth.frag")) {
   glCreateFramebuffers(1, &framebuffer_);
@@ -54,7 +54,6 @@ ShadowMaps::ShadowMaps(int size)
 
 ShadowMaps::~ShadowMaps() {
   glDeleteFramebuffers(1, &framebuffer_);
-  glDeleteTextures(1, &texture_);
 }
 
 void ShadowMaps::Render(const std::vector<ShadowLight>& lights, const SceneBounds& bounds,
@@ -81,30 +80,18 @@ void ShadowMaps::Render(const std::vector<ShadowLight>& lights, const SceneBound
     matrices_.push_back(kToTexture * v.view_projection);
     map_scales_.push_back(v.map_scale);
   }
-  bias_ = kBiasTexels * 2.0f * bounds.radius / static_cast<float>(size_);
-  point_bias_ = kBiasTexels * 2.0f / static_cast<float>(size_);  // a 90° face's texel at distance 1
+  bias_ = kBiasTexels * 2.0f * bounds.radius / static_cast<float>(size());
+  point_bias_ = kBiasTexels * 2.0f / static_cast<float>(size());  // a 90° face's texel at distance 1
 
-  const int layers = std::max(static_cast<int>(views.size()), 1);
-  if (layers > allocated_layers_) {
-    glDeleteTextures(1, &texture_);
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture_);
-    glTextureStorage3D(texture_, 1, GL_DEPTH_COMPONENT32F, size_, size_, layers);
-    glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture_, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-    glTextureParameteri(texture_, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-    allocated_layers_ = layers;
-  }
+  texture_.Reserve(static_cast<int>(views.size()));
 
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  glViewport(0, 0, size_, size_);
+  glViewport(0, 0, size(), size());
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   for (size_t layer = 0; layer < views.size(); ++layer) {
     const glm::mat4& view_projection = views[layer].view_projection;
-    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture_, 0, static_cast<GLint>(layer));
+    glNamedFramebufferTextureLayer(framebuffer_, GL_DEPTH_ATTACHMENT, texture_.id(), 0, static_cast<GLint>(layer));
     glNamedFramebufferDrawBuffer(framebuffer_, GL_NONE);
     glClear(GL_DEPTH_BUFFER_BIT);
     opaque_program_.Use();

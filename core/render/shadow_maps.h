@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/gl/layer_texture.h"
 #include "core/gl/mesh_buffer.h"
 #include "core/gl/shader_program.h"
 #include "core/methods/fabric_method.h"
@@ -22,7 +23,6 @@ namespace loom {
 
 inline constexpr int kMaxShadowMaps = 4;   // shadow-casting lights, as in lights.glsl
 inline constexpr int kPointShadowFaces = 6;
-inline constexpr int kMaxShadowLayers = kMaxShadowMaps * kPointShadowFaces;  // as in lights.glsl
 
 struct SceneBounds {
   glm::vec3 centre{0.0f};
@@ -57,14 +57,14 @@ class ShadowMaps {
               const std::vector<const gl::MeshBuffer*>& opaque, const std::vector<ClothCaster>& cloth,
               int fabric_unit);
 
-  GLuint texture() const { return texture_; }
+  GLuint texture() const { return texture_.id(); }
   int first_layer(size_t light) const { return first_layers_[light]; }
   int layer_count() const { return static_cast<int>(matrices_.size()); }
   const glm::mat4& matrix(int layer) const { return matrices_[static_cast<size_t>(layer)]; }
   // Map units per world unit across the light's view at w = 1 of matrix(layer)'s clip
   // space (w the depth from a point light; 1 for a directional one).
   float map_scale(int layer) const { return map_scales_[static_cast<size_t>(layer)]; }
-  int size() const { return size_; }
+  int size() const { return texture_.size(); }
   // World-space offset along the normal that keeps a lit surface from shadowing
   // itself: bias() for a directional light's layer, point_bias() × the distance from
   // a point light.
@@ -72,9 +72,7 @@ class ShadowMaps {
   float point_bias() const { return point_bias_; }
 
  private:
-  int size_;
-  int allocated_layers_ = 0;
-  GLuint texture_ = 0;
+  gl::LayerTexture texture_;
   GLuint framebuffer_ = 0;
   gl::ShaderProgram opaque_program_;
   gl::ShaderProgram cloth_program_;

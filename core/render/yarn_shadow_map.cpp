@@ -1,13 +1,11 @@
 #include "core/render/yarn_shadow_map.h"
 
-#include <algorithm>
-
 #include "core/util/error.h"
 
 namespace loom {
 
 YarnShadowMap::YarnShadowMap(int size)
-    : size_(size), program_(gl::ShaderProgram::FromEmbedded("yarn_shadow_map.vert", "yarn_shadow_map.frag")) {
+    : texture_(GL_RGBA16F, size, false), program_(gl::ShaderProgram::FromEmbedded("yarn_shadow_map.vert", "yarn_shadow_map.frag")) {
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &vao_);
 }
@@ -16,27 +14,17 @@ YarnShadowMap::~YarnShadowMap() {
   glDeleteVertexArrays(1, &vao_);
   glDeleteFramebuffers(1, &framebuffer_);
   glDeleteTextures(1, &profiles_);
-  glDeleteTextures(1, &texture_);
 }
 
 void YarnShadowMap::Render(const ShadowMaps& shadows, const std::vector<const Lumislice*>& yarns,
                            const std::function<void(const DrawBatch& draw)>& for_each_batch) {
   const int layers = shadows.layer_count();
-  if (std::max(layers, 1) > allocated_layers_) {
-    allocated_layers_ = std::max(layers, 1);
-    glDeleteTextures(1, &texture_);
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &texture_);
-    glTextureStorage3D(texture_, 1, GL_RGBA16F, size_, size_, allocated_layers_);
-    glTextureParameteri(texture_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(texture_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(texture_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  }
+  texture_.Reserve(layers);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  glViewport(0, 0, size_, size_);
+  glViewport(0, 0, size(), size());
   const GLfloat clear[4] = {1.0f, 1.0f, 1.0f, 1.0f};
   for (int layer = 0; layer < layers; ++layer) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, layer);
+    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_.id(), 0, layer);
     glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, clear);
   }
   if (layers == 0 || yarns.empty()) return;
@@ -60,11 +48,11 @@ void YarnShadowMap::Render(const ShadowMaps& shadows, const std::vector<const Lu
   program_.Use();
   glBindTextureUnit(0, profiles_);
   program_.Set("u_profiles", 0);
-  program_.Set("u_texel", 1.0f / static_cast<float>(size_));
+  program_.Set("u_texel", 1.0f / static_cast<float>(size()));
   for (size_t i = 0; i < yarns.size(); ++i) program_.Set("u_extent", static_cast<int>(i), yarns[i]->section.extent());
   glBindVertexArray(vao_);
   for (int layer = 0; layer < layers; ++layer) {
-    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_, 0, layer);
+    glNamedFramebufferTextureLayer(framebuffer_, GL_COLOR_ATTACHMENT0, texture_.id(), 0, layer);
     if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       throw Error(ErrorCode::kInternal, "yarn shadow map: framebuffer incomplete");
     }

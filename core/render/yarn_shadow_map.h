@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "core/gl/layer_texture.h"
 #include "core/gl/shader_program.h"
 #include "core/methods/lumislice/lumislice_table.h"
 #include "core/render/shadow_maps.h"
@@ -35,13 +36,12 @@ class YarnShadowMap {
   void Render(const ShadowMaps& shadows, const std::vector<const Lumislice*>& yarns,
               const std::function<void(const DrawBatch& draw)>& for_each_batch);
 
-  GLuint texture() const { return texture_; }
-  int size() const { return size_; }
+  GLuint texture() const { return texture_.id(); }
+  int size() const { return texture_.size(); }
 
  private:
-  int size_;
-  int allocated_layers_ = 0;
-  GLuint texture_ = 0, profiles_ = 0, framebuffer_ = 0, vao_ = 0;
+  gl::LayerTexture texture_;
+  GLuint profiles_ = 0, framebuffer_ = 0, vao_ = 0;
   gl::ShaderProgram program_;
 };
 

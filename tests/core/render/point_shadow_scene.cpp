@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <gtest/gtest.h>
+
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 
@@ -54,6 +56,17 @@ PointShadowCheck CheckPointShadow(const Image& image) {
     }
   }
   return check;
+}
+
+void ExpectShadowWhereTheRaysMeetTheSphere(const std::function<Image(const std::string& json)>& render,
+                                           const std::string& method, double lit_tolerance) {
+  const PointShadowCheck shadowed = CheckPointShadow(render(PointShadowSceneJson(true, method)));
+  EXPECT_GT(shadowed.inside, 200);
+  EXPECT_GT(shadowed.inside_plus_x_face, 50);
+  EXPECT_EQ(shadowed.dark_inside, shadowed.inside);
+  EXPECT_GT(shadowed.outside, 2000);
+  EXPECT_LT(shadowed.worst_outside, lit_tolerance);
+  EXPECT_EQ(CheckPointShadow(render(PointShadowSceneJson(false, method))).dark_inside, 0);
 }
 
 }  // namespace loom::testing

@@ -4,6 +4,7 @@
 // point-light shadows are held to. The shadow crosses two of the light's cube faces
 // (−z and +x, at x = 0.5), so a seam between shadow map faces shows too.
 
+#include <functional>
 #include <string>
 
 #include "core/image/image.h"
@@ -25,5 +26,12 @@ struct PointShadowCheck {
 // segment from the plane point to the light, away from the shadow's edge (the sphere
 // is a mesh; the maps are filtered) and from the sphere itself, and measures them.
 PointShadowCheck CheckPointShadow(const Image& image);
+
+// Renders the scene with and without casts_shadows through `render` (the scene's JSON
+// → its frame) and expects: with, every pixel surely inside the shadow black (on both
+// faces), every one surely outside within `lit_tolerance` of Lambert's; without, no
+// pixel inside black.
+void ExpectShadowWhereTheRaysMeetTheSphere(const std::function<Image(const std::string& json)>& render,
+                                           const std::string& method, double lit_tolerance);
 
 }  // namespace loom::testing
