@@ -1,0 +1,126 @@
+#pragma once
+// The lumislice paper's knit animation (§4.1–4.2): a KnitCloth's mass points
+// moved by its springs (balance interval), bending, shearing, gravity and air
+// viscosity, the thickness force field of the colliders with static and dynamic
+// friction, integrated by second-order Runge–Kutta. Each step is as long as the
+// stability (CFL) bound allows, and is redone at half its length while it would
+// carry a point into a collider. Units, constants and derivations:
+// docs/animation.md.
+//
+// Not yet: self-collision and self-friction, the position smoothing filter,
+// moving colliders (docs/animation.md "Next").
+
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "core/animate/collider.h"
+#include "core/animate/knit_cloth.h"
+#include "core/animate/knit_forces.h"
+
+namespace loom::animate {
+
+// The model's constants, in the simulation's units (a point's mass 1, lengths
+// in loops, seconds). Defaults: the paper's §6 where its constants can hold a
+// cloth, and docs/animation.md says where they cannot.
+struct KnitMechanics {
+  SpringLaw wale{1500.0f, 3000.0f};   // c₀ wale, c₁
+  SpringLaw course{2000.0f, 3000.0f}; // c₀ course, c₁
+  float bend_wale = 100.0f;           // c₂ wale
+  float bend_course = 150.0f;         // c₂ course
+  float shear = 1000.0f;              // c₃
+  float half_thickness = 0.9f;        // T
+  float core = 0.1f;                  // τ
+  float field_strength =
+      100.0f; // c₅ (the paper's 0.2 cannot bear a point's weight)
+  float static_friction = 1.0f;  // K_s
+  float dynamic_friction = 0.5f; // K_d
+  float air_viscosity = 0.6f;    // c₉
+  glm::vec3 gravity{0.0f, 0.0f, -9.81f};
+  // A step is at most courant / ω_max, ω_max² the largest stiffness a point
+  // feels…
+  float courant = 0.3f;
+  // …and carries no point further than this fraction of the field's fibre layer
+  // (T − τ).
+  float travel = 0.5f;
+  // A step that carries a point into a collider is redone at half its length,
+  // at most this many times (0: never).
+  int max_halvings = 12;
+};
+
+struct SimulationCounts {
+  long steps = 0;    // steps taken
+  long halvings = 0; // steps redone at half their length
+  long penetrations =
+      0; // steps that carried a point into a collider after the last halving
+};
+
+class KnitSimulation {
+public:
+  KnitSimulation(const KnitCloth &cloth, const KnitMechanics &mechanics,
+                 std::vector<Collider> colliders);
+
+  // Holds point `index` where it is.
+  void Pin(size_t index);
+  // Sets a free point's velocity (a throw).
+  void SetVelocity(size_t index, glm::vec3 velocity);
+
+  // Advances the cloth by `duration` seconds in steps no longer than
+  // `max_step`.
+  void Advance(float duration, float max_step);
+
+  const std::vector<glm::vec3> &positions() const { return x_; }
+  const std::vector<glm::vec3> &velocities() const { return v_; }
+  const KnitCloth &cloth() const { return cloth_; }
+  const KnitMechanics &mechanics() const { return mechanics_; }
+  const ThicknessField &field() const { return field_; }
+  double time() const { return time_; }
+  const SimulationCounts &counts() const { return counts_; }
+  // ½ Σ |v|² over the points.
+  double KineticEnergy() const;
+  // The least signed distance from any point to any collider since the start.
+  float min_collider_distance() const { return min_distance_; }
+
+  // The acceleration of every point at positions x and velocities v, for a step
+  // of length dt (friction stops at most what dt would carry on).
+  void Accelerations(const std::vector<glm::vec3> &x,
+                     const std::vector<glm::vec3> &v, float dt,
+                     std::vector<glm::vec3> &a) const;
+
+private:
+  struct Spring {
+    size_t a, b;
+    float rest;
+    const SpringLaw *law;
+  };
+  struct Triple {
+    size_t a, b, c;
+    float constant, arm, rest_angle;
+  };
+
+  // The longest stable step at the present state.
+  float StableStep() const;
+  // Whether a point outside a collider at the present positions is inside one
+  // at x.
+  bool Penetrates(const std::vector<glm::vec3> &x) const;
+  // The least signed distance from the points x to any collider.
+  float ColliderDistance(const std::vector<glm::vec3> &x) const;
+  // One RK2 step of length dt from (x_, v_) into (x, v).
+  void Integrate(float dt, std::vector<glm::vec3> &x,
+                 std::vector<glm::vec3> &v);
+
+  KnitCloth cloth_;
+  KnitMechanics mechanics_;
+  ThicknessField field_;
+  std::vector<Collider> colliders_;
+  std::vector<Spring> springs_;
+  std::vector<Triple> bends_, shears_;
+  std::vector<char> pinned_;
+  std::vector<glm::vec3> x_, v_;
+  // Scratch of a step.
+  std::vector<glm::vec3> a1_, a2_, x_mid_, v_mid_;
+  double time_ = 0.0;
+  SimulationCounts counts_;
+  float min_distance_;
+};
+
+} // namespace loom::animate
