@@ -7,8 +7,7 @@
 namespace loom::animate {
 
 Collider Collider::Plane(glm::vec3 point, glm::vec3 normal) {
-  if (!(glm::length(normal) > 0.0f))
-    throw Error(ErrorCode::kInvalidArgument, "plane collider: zero normal");
+  if (!(glm::length(normal) > 0.0f)) throw Error(ErrorCode::kInvalidArgument, "plane collider: zero normal");
   Collider c;
   c.kind_ = Kind::kPlane;
   c.centre_ = point;
@@ -17,9 +16,7 @@ Collider Collider::Plane(glm::vec3 point, glm::vec3 normal) {
 }
 
 Collider Collider::Sphere(glm::vec3 centre, float radius) {
-  if (!(radius > 0.0f))
-    throw Error(ErrorCode::kInvalidArgument,
-                "sphere collider: radius must be > 0");
+  if (!(radius > 0.0f)) throw Error(ErrorCode::kInvalidArgument, "sphere collider: radius must be > 0");
   Collider c;
   c.kind_ = Kind::kSphere;
   c.centre_ = centre;
@@ -29,8 +26,7 @@ Collider Collider::Sphere(glm::vec3 centre, float radius) {
 
 Collider Collider::Box(glm::vec3 centre, glm::vec3 half_extent) {
   if (!(glm::all(glm::greaterThan(half_extent, glm::vec3(0.0f))))) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "box collider: half extents must be > 0");
+    throw Error(ErrorCode::kInvalidArgument, "box collider: half extents must be > 0");
   }
   Collider c;
   c.kind_ = Kind::kBox;
@@ -41,31 +37,30 @@ Collider Collider::Box(glm::vec3 centre, glm::vec3 half_extent) {
 
 Contact Collider::Nearest(glm::vec3 p) const {
   switch (kind_) {
-  case Kind::kPlane:
-    return {glm::dot(p - centre_, extent_), extent_};
-  case Kind::kSphere: {
-    const glm::vec3 r = p - centre_;
-    const float length = glm::length(r);
-    return {length - extent_.x,
-            length > 0.0f ? r / length : glm::vec3(0.0f, 0.0f, 1.0f)};
-  }
-  case Kind::kBox: {
-    const glm::vec3 local = p - centre_;
-    const glm::vec3 q = glm::abs(local) - extent_;
-    if (glm::any(glm::greaterThan(q, glm::vec3(0.0f)))) {
-      // Outside: from the nearest point of the box.
-      const glm::vec3 outside = glm::max(q, glm::vec3(0.0f)) * glm::sign(local);
-      const float length = glm::length(outside);
-      return {length, outside / length};
+    case Kind::kPlane:
+      return {glm::dot(p - centre_, extent_), extent_};
+    case Kind::kSphere: {
+      const glm::vec3 r = p - centre_;
+      const float length = glm::length(r);
+      return {length - extent_.x, length > 0.0f ? r / length : glm::vec3(0.0f, 0.0f, 1.0f)};
     }
-    // Inside: through the nearest face.
-    const int axis = q.x > q.y ? (q.x > q.z ? 0 : 2) : (q.y > q.z ? 1 : 2);
-    glm::vec3 normal(0.0f);
-    normal[axis] = local[axis] < 0.0f ? -1.0f : 1.0f;
-    return {q[axis], normal};
-  }
+    case Kind::kBox: {
+      const glm::vec3 local = p - centre_;
+      const glm::vec3 q = glm::abs(local) - extent_;
+      if (glm::any(glm::greaterThan(q, glm::vec3(0.0f)))) {
+        // Outside: from the nearest point of the box.
+        const glm::vec3 outside = glm::max(q, glm::vec3(0.0f)) * glm::sign(local);
+        const float length = glm::length(outside);
+        return {length, outside / length};
+      }
+      // Inside: through the nearest face.
+      const int axis = q.x > q.y ? (q.x > q.z ? 0 : 2) : (q.y > q.z ? 1 : 2);
+      glm::vec3 normal(0.0f);
+      normal[axis] = local[axis] < 0.0f ? -1.0f : 1.0f;
+      return {q[axis], normal};
+    }
   }
   return {};
 }
 
-} // namespace loom::animate
+}  // namespace loom::animate

@@ -8,12 +8,12 @@
 namespace loom::animate {
 
 struct Contact {
-  float distance = 0.0f;              // signed: negative inside the solid
-  glm::vec3 normal{0.0f, 0.0f, 1.0f}; // outward, unit
+  float distance = 0.0f;               // signed: negative inside the solid
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};  // outward, unit
 };
 
 class Collider {
-public:
+ public:
   // The half-space below the plane through `point` with outward `normal`.
   static Collider Plane(glm::vec3 point, glm::vec3 normal);
   static Collider Sphere(glm::vec3 centre, float radius);
@@ -22,12 +22,11 @@ public:
 
   Contact Nearest(glm::vec3 p) const;
 
-private:
+ private:
   enum class Kind { kPlane, kSphere, kBox };
   Kind kind_ = Kind::kPlane;
   glm::vec3 centre_{0.0f};
-  glm::vec3 extent_{
-      0.0f}; // plane: unit normal; sphere: radius in x; box: half extents
+  glm::vec3 extent_{0.0f};  // plane: unit normal; sphere: radius in x; box: half extents
 };
 
-} // namespace loom::animate
+}  // namespace loom::animate

@@ -19,38 +19,32 @@ struct AngleGradient {
 AngleGradient AngleBetween(glm::vec3 p, glm::vec3 q) {
   AngleGradient g;
   const float lp = glm::length(p), lq = glm::length(q);
-  if (lp <= 0.0f || lq <= 0.0f)
-    return g;
+  if (lp <= 0.0f || lq <= 0.0f) return g;
   const glm::vec3 pu = p / lp, qu = q / lq;
   const float c = glm::clamp(glm::dot(pu, qu), -1.0f, 1.0f);
   g.angle = std::acos(c);
   const glm::vec3 q_perp = qu - c * pu, p_perp = pu - c * qu;
   const float lqp = glm::length(q_perp), lpp = glm::length(p_perp);
-  if (lqp < 1e-6f || lpp < 1e-6f)
-    return g;
+  if (lqp < 1e-6f || lpp < 1e-6f) return g;
   g.d_p = -q_perp / (lqp * lp);
   g.d_q = -p_perp / (lpp * lq);
   g.defined = true;
   return g;
 }
 
-} // namespace
+}  // namespace
 
-float SpringForce(const SpringLaw &law, float rest, float length) {
+float SpringForce(const SpringLaw& law, float rest, float length) {
   const float high = law.balance_high * rest, low = law.balance_low * rest;
-  if (length > high)
-    return law.stretch * std::expm1((length - high) / high);
-  if (length < low)
-    return -law.compress * std::expm1((low - length) / low);
+  if (length > high) return law.stretch * std::expm1((length - high) / high);
+  if (length < low) return -law.compress * std::expm1((low - length) / low);
   return 0.0f;
 }
 
-float SpringStiffness(const SpringLaw &law, float rest, float length) {
+float SpringStiffness(const SpringLaw& law, float rest, float length) {
   const float high = law.balance_high * rest, low = law.balance_low * rest;
-  if (length > high)
-    return law.stretch / high * std::exp((length - high) / high);
-  if (length < low)
-    return law.compress / low * std::exp((low - length) / low);
+  if (length > high) return law.stretch / high * std::exp((length - high) / high);
+  if (length < low) return law.compress / low * std::exp((low - length) / low);
   return 0.0f;
 }
 
@@ -68,57 +62,43 @@ ThicknessField::ThicknessField(float half_thickness, float core, float strength)
 }
 
 float ThicknessField::operator()(float d) const {
-  if (d >= half_thickness_)
-    return 0.0f;
-  if (d >= core_)
-    return strength_ * (half_thickness_ - d) * (half_thickness_ - d);
-  if (d <= 0.0f)
-    return std::numeric_limits<float>::infinity();
+  if (d >= half_thickness_) return 0.0f;
+  if (d >= core_) return strength_ * (half_thickness_ - d) * (half_thickness_ - d);
+  if (d <= 0.0f) return std::numeric_limits<float>::infinity();
   const float exponent = alpha_ / d;
-  return exponent > 80.0f ? std::numeric_limits<float>::infinity()
-                          : c6_ * std::exp(exponent);
+  return exponent > 80.0f ? std::numeric_limits<float>::infinity() : c6_ * std::exp(exponent);
 }
 
 float ThicknessField::Slope(float d) const {
-  if (d >= half_thickness_)
-    return 0.0f;
-  if (d >= core_)
-    return -2.0f * strength_ * (half_thickness_ - d);
-  if (d <= 0.0f)
-    return -std::numeric_limits<float>::infinity();
+  if (d >= half_thickness_) return 0.0f;
+  if (d >= core_) return -2.0f * strength_ * (half_thickness_ - d);
+  if (d <= 0.0f) return -std::numeric_limits<float>::infinity();
   return -alpha_ / (d * d) * (*this)(d);
 }
 
 float ThicknessField::DistanceOf(float force) const {
-  if (force <= 0.0f)
-    return half_thickness_;
-  const float at_core =
-      strength_ * (half_thickness_ - core_) * (half_thickness_ - core_);
-  if (force <= at_core)
-    return half_thickness_ - std::sqrt(force / strength_);
+  if (force <= 0.0f) return half_thickness_;
+  const float at_core = strength_ * (half_thickness_ - core_) * (half_thickness_ - core_);
+  if (force <= at_core) return half_thickness_ - std::sqrt(force / strength_);
   return alpha_ / std::log(force / c6_);
 }
 
-std::array<glm::vec3, 3> BendForces(glm::vec3 a, glm::vec3 b, glm::vec3 c,
-                                    float constant, float arm) {
+std::array<glm::vec3, 3> BendForces(glm::vec3 a, glm::vec3 b, glm::vec3 c, float constant, float arm) {
   // The turn θ between u = b − a and w = c − b: ∂θ/∂a = −∂θ/∂u, ∂θ/∂c = ∂θ/∂w.
   const AngleGradient g = AngleBetween(b - a, c - b);
-  if (!g.defined)
-    return {};
+  if (!g.defined) return {};
   const float scale = -constant * g.angle * arm;
   const glm::vec3 fa = scale * -g.d_p, fc = scale * g.d_q;
   return {fa, -(fa + fc), fc};
 }
 
-std::array<glm::vec3, 3> ShearForces(glm::vec3 a, glm::vec3 b, glm::vec3 c,
-                                     float rest_angle, float constant,
+std::array<glm::vec3, 3> ShearForces(glm::vec3 a, glm::vec3 b, glm::vec3 c, float rest_angle, float constant,
                                      float arm) {
   const AngleGradient g = AngleBetween(a - b, c - b);
-  if (!g.defined)
-    return {};
+  if (!g.defined) return {};
   const float scale = -constant * (g.angle - rest_angle) * arm;
   const glm::vec3 fa = scale * g.d_p, fc = scale * g.d_q;
   return {fa, -(fa + fc), fc};
 }
 
-} // namespace loom::animate
+}  // namespace loom::animate

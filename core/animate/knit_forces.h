@@ -16,17 +16,17 @@ namespace loom::animate {
 // swaps them); beyond, stretch·(e^{(x−θ₁)/θ₁} − 1) pulling its ends together,
 // and below, compress·(e^{(θ₂−x)/θ₂} − 1) pushing them apart.
 struct SpringLaw {
-  float stretch = 0.0f;  // c₀
-  float compress = 0.0f; // c₁
+  float stretch = 0.0f;   // c₀
+  float compress = 0.0f;  // c₁
   float balance_low = 0.95f;
   float balance_high = 1.05f;
 };
 
 // The force along the spring at `length`: positive pulls the ends together.
-float SpringForce(const SpringLaw &law, float rest, float length);
+float SpringForce(const SpringLaw& law, float rest, float length);
 // |dF/dlength| there (0 inside the interval): the spring's stiffness, for the
 // step bound.
-float SpringStiffness(const SpringLaw &law, float rest, float length);
+float SpringStiffness(const SpringLaw& law, float rest, float length);
 
 // The thickness force field (eq. 1 and 2) of a knit of thickness 2T, as a
 // function of the distance d from its centre surface: c₅(T − d)² for τ ≤ d < T,
@@ -35,12 +35,12 @@ float SpringStiffness(const SpringLaw &law, float rest, float length);
 // d → 0 (β = 0); the paper's own constants give no such barrier
 // (docs/animation.md).
 class ThicknessField {
-public:
+ public:
   ThicknessField() = default;
   // half_thickness T > core τ > 0, strength c₅ > 0.
   ThicknessField(float half_thickness, float core, float strength);
-  float operator()(float d) const; // the repulsion at d ≥ 0 (+∞ at 0)
-  float Slope(float d) const;      // dF/dd there (≤ 0)
+  float operator()(float d) const;  // the repulsion at d ≥ 0 (+∞ at 0)
+  float Slope(float d) const;       // dF/dd there (≤ 0)
   float half_thickness() const { return half_thickness_; }
   float core() const { return core_; }
   float c6() const { return c6_; }
@@ -49,7 +49,7 @@ public:
   // 0).
   float DistanceOf(float force) const;
 
-private:
+ private:
   float half_thickness_ = 0.0f, core_ = 0.0f, strength_ = 0.0f;
   float c6_ = 0.0f, alpha_ = 0.0f;
 };
@@ -61,10 +61,8 @@ private:
 // `arm` feels constant × excess, the paper's "proportional to the angle". They
 // add up to zero and exert no torque. Zero where the angle's gradient is
 // undefined (a straight corner).
-std::array<glm::vec3, 3> BendForces(glm::vec3 a, glm::vec3 b, glm::vec3 c,
-                                    float constant, float arm);
-std::array<glm::vec3, 3> ShearForces(glm::vec3 a, glm::vec3 b, glm::vec3 c,
-                                     float rest_angle, float constant,
+std::array<glm::vec3, 3> BendForces(glm::vec3 a, glm::vec3 b, glm::vec3 c, float constant, float arm);
+std::array<glm::vec3, 3> ShearForces(glm::vec3 a, glm::vec3 b, glm::vec3 c, float rest_angle, float constant,
                                      float arm);
 
-} // namespace loom::animate
+}  // namespace loom::animate

@@ -4,141 +4,206 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <limits>
+#include <optional>
 
+#include "core/animate/closest_point.h"
 #include "core/util/error.h"
 
 namespace loom::animate {
 namespace {
 
-// The field is evaluated no closer than this fraction of τ to a collider: a
-// point inside one (a step past its last halving) gets the field's strongest
-// finite push.
+// The field is evaluated no closer than this fraction of τ to a collider or a
+// triangle of the cloth: a point that came closer (a step past its last
+// halving) gets the field's strongest finite push. A step that brings a point
+// this close is redone at half its length.
 constexpr float kNearestField = 0.02f;
 
-} // namespace
+}  // namespace
 
-KnitSimulation::KnitSimulation(const KnitCloth &cloth,
-                               const KnitMechanics &mechanics,
-                               std::vector<Collider> colliders)
-    : cloth_(cloth), mechanics_(mechanics),
-      field_(mechanics.half_thickness, mechanics.core,
-             mechanics.field_strength),
-      colliders_(std::move(colliders)), pinned_(cloth.size(), 0),
-      x_(cloth.positions), v_(cloth.size(), glm::vec3(0.0f)),
-      min_distance_(std::numeric_limits<float>::infinity()) {
-  if (cloth.size() != static_cast<size_t>(cloth.across) * cloth.along ||
-      cloth.across < 2 || cloth.along < 2) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "knit simulation: the cloth's points are not across × along");
+KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mechanics, std::vector<Collider> colliders)
+    : cloth_(cloth),
+      mechanics_(mechanics),
+      field_(mechanics.half_thickness, mechanics.core, mechanics.field_strength),
+      colliders_(std::move(colliders)),
+      self_friction_field_(mechanics.half_thickness, mechanics.core, mechanics.self_friction_strength),
+      pinned_(cloth.size(), 0),
+      x_(cloth.positions),
+      v_(cloth.size(), glm::vec3(0.0f)),
+      min_distance_(std::numeric_limits<float>::infinity()),
+      min_self_distance_(std::numeric_limits<float>::infinity()) {
+  if (cloth.size() != static_cast<size_t>(cloth.across) * cloth.along || cloth.across < 2 || cloth.along < 2) {
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: the cloth's points are not across × along");
   }
   const float arm = std::sqrt(cloth.course_spacing * cloth.wale_spacing);
   for (int j = 0; j < cloth.along; ++j) {
     for (int i = 0; i < cloth.across; ++i) {
       const size_t p = cloth.Index(i, j);
       if (i + 1 < cloth.across)
-        springs_.push_back({p, cloth.Index(i + 1, j), cloth.course_spacing,
-                            &mechanics_.course});
-      if (j + 1 < cloth.along)
-        springs_.push_back(
-            {p, cloth.Index(i, j + 1), cloth.wale_spacing, &mechanics_.wale});
+        springs_.push_back({p, cloth.Index(i + 1, j), cloth.course_spacing, &mechanics_.course});
+      if (j + 1 < cloth.along) springs_.push_back({p, cloth.Index(i, j + 1), cloth.wale_spacing, &mechanics_.wale});
       if (i > 0 && i + 1 < cloth.across) {
-        bends_.push_back({cloth.Index(i - 1, j), p, cloth.Index(i + 1, j),
-                          mechanics_.bend_course, cloth.course_spacing, 0.0f});
+        bends_.push_back(
+            {cloth.Index(i - 1, j), p, cloth.Index(i + 1, j), mechanics_.bend_course, cloth.course_spacing, 0.0f});
       }
       if (j > 0 && j + 1 < cloth.along) {
-        bends_.push_back({cloth.Index(i, j - 1), p, cloth.Index(i, j + 1),
-                          mechanics_.bend_wale, cloth.wale_spacing, 0.0f});
+        bends_.push_back(
+            {cloth.Index(i, j - 1), p, cloth.Index(i, j + 1), mechanics_.bend_wale, cloth.wale_spacing, 0.0f});
       }
       // A cell's two opposite corners, at rest square.
       if (i + 1 < cloth.across && j + 1 < cloth.along) {
         const float right = glm::half_pi<float>();
-        shears_.push_back({cloth.Index(i + 1, j), p, cloth.Index(i, j + 1),
-                           mechanics_.shear, arm, right});
-        shears_.push_back({cloth.Index(i, j + 1), cloth.Index(i + 1, j + 1),
-                           cloth.Index(i + 1, j), mechanics_.shear, arm,
-                           right});
+        shears_.push_back({cloth.Index(i + 1, j), p, cloth.Index(i, j + 1), mechanics_.shear, arm, right});
+        shears_.push_back(
+            {cloth.Index(i, j + 1), cloth.Index(i + 1, j + 1), cloth.Index(i + 1, j), mechanics_.shear, arm, right});
       }
     }
   }
   min_distance_ = ColliderDistance(x_);
+  if (mechanics_.self_collision) {
+    if (!(mechanics_.cone_degrees > 0.0f && mechanics_.cone_degrees <= 90.0f)) {
+      throw Error(ErrorCode::kInvalidArgument, "knit simulation: cone_degrees must lie in (0, 90]");
+    }
+    contacts_ = std::make_unique<SelfContactPairs>(cloth_, mechanics_.half_thickness, mechanics_.contact_skin,
+                                                   mechanics_.self_exclusion, mechanics_.threads);
+    contacts_->Update(x_);
+    min_self_distance_ = SelfDistance(x_);
+  }
+}
+
+SimulationCounts KnitSimulation::counts() const {
+  SimulationCounts counts = counts_;
+  if (contacts_) counts.contact_searches = contacts_->searches();
+  return counts;
 }
 
 void KnitSimulation::Pin(size_t index) {
   if (index >= pinned_.size())
-    throw Error(ErrorCode::kInvalidArgument,
-                "knit simulation: no point " + std::to_string(index));
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: no point " + std::to_string(index));
   pinned_[index] = 1;
   v_[index] = glm::vec3(0.0f);
 }
 
 void KnitSimulation::SetVelocity(size_t index, glm::vec3 velocity) {
   if (index >= pinned_.size())
-    throw Error(ErrorCode::kInvalidArgument,
-                "knit simulation: no point " + std::to_string(index));
-  if (!pinned_[index])
-    v_[index] = velocity;
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: no point " + std::to_string(index));
+  if (!pinned_[index]) v_[index] = velocity;
 }
 
 double KnitSimulation::KineticEnergy() const {
   double energy = 0.0;
-  for (const glm::vec3 &v : v_)
-    energy += 0.5 * glm::dot(v, v);
+  for (const glm::vec3& v : v_) energy += 0.5 * glm::dot(v, v);
   return energy;
 }
 
-void KnitSimulation::Accelerations(const std::vector<glm::vec3> &x,
-                                   const std::vector<glm::vec3> &v, float dt,
-                                   std::vector<glm::vec3> &a) const {
+void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+                                   std::vector<glm::vec3>& a) const {
   a.assign(x.size(), mechanics_.gravity);
-  for (size_t p = 0; p < x.size(); ++p)
-    a[p] -= mechanics_.air_viscosity * v[p];
-  for (const Spring &s : springs_) {
+  for (size_t p = 0; p < x.size(); ++p) a[p] -= mechanics_.air_viscosity * v[p];
+  for (const Spring& s : springs_) {
     const glm::vec3 d = x[s.b] - x[s.a];
     const float length = glm::length(d);
-    if (length <= 0.0f)
-      continue;
+    if (length <= 0.0f) continue;
     const glm::vec3 f = SpringForce(*s.law, s.rest, length) * d / length;
     a[s.a] += f;
     a[s.b] -= f;
   }
-  for (const Triple &t : bends_) {
+  for (const Triple& t : bends_) {
     const auto f = BendForces(x[t.a], x[t.b], x[t.c], t.constant, t.arm);
     a[t.a] += f[0], a[t.b] += f[1], a[t.c] += f[2];
   }
-  for (const Triple &t : shears_) {
-    const auto f =
-        ShearForces(x[t.a], x[t.b], x[t.c], t.rest_angle, t.constant, t.arm);
+  for (const Triple& t : shears_) {
+    const auto f = ShearForces(x[t.a], x[t.b], x[t.c], t.rest_angle, t.constant, t.arm);
     a[t.a] += f[0], a[t.b] += f[1], a[t.c] += f[2];
   }
+  if (contacts_) AddSelfContact(x, v, dt, a);
   // The colliders' fields push along their normals; friction opposes what else
   // would move the point along the surface (eq. 3 and the static threshold
   // K_s·|F|).
   for (size_t p = 0; p < x.size(); ++p) {
-    for (const Collider &collider : colliders_) {
+    for (const Collider& collider : colliders_) {
       const Contact contact = collider.Nearest(x[p]);
-      if (contact.distance >= field_.half_thickness())
-        continue;
-      const float normal_force =
-          field_(std::max(contact.distance, kNearestField * field_.core()));
+      if (contact.distance >= field_.half_thickness()) continue;
+      const float normal_force = field_(std::max(contact.distance, kNearestField * field_.core()));
       const glm::vec3 n = contact.normal;
       const glm::vec3 tangential_force = a[p] - glm::dot(a[p], n) * n;
       const glm::vec3 slip = v[p] - glm::dot(v[p], n) * n;
       const float slip_speed = glm::length(slip);
       a[p] += normal_force * n;
       if (slip_speed <= mechanics_.dynamic_friction * normal_force * dt &&
-          glm::length(tangential_force) <=
-              mechanics_.static_friction * normal_force) {
-        a[p] -= tangential_force + slip / dt; // held
+          glm::length(tangential_force) <= mechanics_.static_friction * normal_force) {
+        a[p] -= tangential_force + slip / dt;  // held
       } else if (slip_speed > 0.0f) {
-        a[p] -= std::min(mechanics_.dynamic_friction * normal_force,
-                         slip_speed / dt) *
-                slip / slip_speed;
+        a[p] -= std::min(mechanics_.dynamic_friction * normal_force, slip_speed / dt) * slip / slip_speed;
       }
     }
   }
   for (size_t p = 0; p < x.size(); ++p) {
-    if (pinned_[p])
-      a[p] = glm::vec3(0.0f);
+    if (pinned_[p]) a[p] = glm::vec3(0.0f);
+  }
+}
+
+void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+                                    std::vector<glm::vec3>& a) const {
+  // A point feels the layer of cloth nearest it on each side: of its pairs
+  // within T whose offset from the triangle's nearest point lies within the
+  // cone about the triangle's normal, the nearest, and the nearest on the other
+  // side (a point between two layers). It is pushed away along the offset and
+  // the triangle's corners the other way, split by the nearest point's weights,
+  // each with half the field, since two layers in contact meet from both sides
+  // (each one's points against the other's triangles); dynamic self-friction
+  // opposes their relative slip.
+  struct Touch {
+    uint32_t triangle;
+    glm::vec3 u, weights;
+    float d;
+  };
+  const float cos_cone = std::cos(glm::radians(mechanics_.cone_degrees));
+  const std::vector<glm::uvec3>& triangles = contacts_->triangles();
+  const std::vector<PointTriangle>& pairs = contacts_->pairs();
+  const auto apply = [&](uint32_t point, const Touch& touch) {
+    const glm::uvec3 t = triangles[touch.triangle];
+    const glm::vec3 w = touch.weights;
+    const auto push = [&](glm::vec3 f) {
+      a[point] += f;
+      a[t.x] -= w.x * f, a[t.y] -= w.y * f, a[t.z] -= w.z * f;
+    };
+    const float depth = std::max(touch.d, kNearestField * field_.core());
+    push(0.5f * field_(depth) * touch.u);
+    const glm::vec3 relative = v[point] - (w.x * v[t.x] + w.y * v[t.y] + w.z * v[t.z]);
+    const glm::vec3 slip = relative - glm::dot(relative, touch.u) * touch.u;
+    const float slip_speed = glm::length(slip);
+    if (slip_speed > 0.0f) {
+      // The pair's relative velocity changes by f·dt·(1 + Σw²) under a force f.
+      const float stop = slip_speed / (dt * (1.0f + glm::dot(w, w)));
+      push(-std::min(0.5f * mechanics_.dynamic_friction * self_friction_field_(depth), stop) * slip / slip_speed);
+    }
+  };
+  for (size_t first = 0; first < pairs.size();) {
+    const uint32_t point = pairs[first].point;
+    size_t last = first;
+    std::optional<Touch> nearest, across;
+    for (; last < pairs.size() && pairs[last].point == point; ++last) {
+      const uint32_t triangle = pairs[last].triangle;
+      const glm::uvec3 t = triangles[triangle];
+      const TrianglePoint q = ClosestPointOnTriangle(x[point], x[t.x], x[t.y], x[t.z]);
+      const glm::vec3 offset = x[point] - q.point;
+      const float d = glm::length(offset);
+      if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
+      const glm::vec3 normal = glm::cross(x[t.y] - x[t.x], x[t.z] - x[t.x]);
+      const float twice_area = glm::length(normal);
+      if (!(twice_area > 0.0f) || std::abs(glm::dot(offset, normal)) < cos_cone * twice_area * d) continue;
+      const Touch touch{triangle, offset / d, q.weights, d};
+      if (!nearest || d < nearest->d) {
+        if (nearest && glm::dot(nearest->u, touch.u) < 0.0f) across = nearest;
+        nearest = touch;
+      } else if (glm::dot(nearest->u, touch.u) < 0.0f && (!across || d < across->d)) {
+        across = touch;
+      }
+    }
+    // A later nearest may leave `across` on its own side.
+    if (nearest) apply(point, *nearest);
+    if (across && glm::dot(nearest->u, across->u) < 0.0f) apply(point, *across);
+    first = last;
   }
 }
 
@@ -147,71 +212,119 @@ float KnitSimulation::StableStep() const {
   // angle force of constant c and arm r moves its middle point with stiffness
   // about 4c/r.
   std::vector<float> stiffness(x_.size(), 0.0f);
-  for (const Spring &s : springs_) {
+  for (const Spring& s : springs_) {
     // At least the stiffness at the interval's edge: a step may carry a spring
     // out of it.
-    const float k = std::max(
-        SpringStiffness(*s.law, s.rest, glm::length(x_[s.b] - x_[s.a])),
-        std::max(s.law->stretch / s.law->balance_high,
-                 s.law->compress / s.law->balance_low) /
-            s.rest);
+    const float k =
+        std::max(SpringStiffness(*s.law, s.rest, glm::length(x_[s.b] - x_[s.a])),
+                 std::max(s.law->stretch / s.law->balance_high, s.law->compress / s.law->balance_low) / s.rest);
     stiffness[s.a] += k;
     stiffness[s.b] += k;
   }
-  for (const auto *triples : {&bends_, &shears_}) {
-    for (const Triple &t : *triples) {
+  for (const auto* triples : {&bends_, &shears_}) {
+    for (const Triple& t : *triples) {
       const float k = t.constant / t.arm;
       stiffness[t.a] += k;
       stiffness[t.b] += 4.0f * k;
       stiffness[t.c] += k;
     }
   }
+  // A point closing on a surface within the field at speed s from distance d
+  // steps at most travel·d/s: it cannot overshoot into the field's barrier,
+  // whose stiffness the bound above sees only once the point is there.
+  float step = std::numeric_limits<float>::infinity();
+  const auto closing = [&](float d, float speed) {
+    if (speed > 0.0f) step = std::min(step, mechanics_.travel * d / speed);
+  };
+  if (contacts_) {
+    for (const PointTriangle& pair : contacts_->pairs()) {
+      const glm::uvec3 t = contacts_->triangles()[pair.triangle];
+      const TrianglePoint q = ClosestPointOnTriangle(x_[pair.point], x_[t.x], x_[t.y], x_[t.z]);
+      const float d = glm::distance(x_[pair.point], q.point);
+      if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
+      const float k = -field_.Slope(std::max(d, kNearestField * field_.core()));
+      stiffness[pair.point] += k;
+      stiffness[t.x] += k, stiffness[t.y] += k, stiffness[t.z] += k;
+      const glm::vec3 w = q.weights;
+      const glm::vec3 relative = v_[pair.point] - (w.x * v_[t.x] + w.y * v_[t.y] + w.z * v_[t.z]);
+      closing(d, -glm::dot(relative, (x_[pair.point] - q.point) / d));
+    }
+  }
   float omega2 = 0.0f, speed = 0.0f;
   for (size_t p = 0; p < x_.size(); ++p) {
-    if (pinned_[p])
-      continue;
-    for (const Collider &collider : colliders_) {
-      const float d = collider.Nearest(x_[p]).distance;
-      if (d < field_.half_thickness())
-        stiffness[p] -=
-            field_.Slope(std::max(d, kNearestField * field_.core()));
+    if (pinned_[p]) continue;
+    for (const Collider& collider : colliders_) {
+      const Contact contact = collider.Nearest(x_[p]);
+      if (contact.distance >= field_.half_thickness()) continue;
+      const float d = std::max(contact.distance, kNearestField * field_.core());
+      stiffness[p] -= field_.Slope(d);
+      closing(d, -glm::dot(v_[p], contact.normal));
     }
     omega2 = std::max(omega2, stiffness[p]);
     speed = std::max(speed, glm::length(v_[p]));
   }
-  float step = std::numeric_limits<float>::infinity();
-  if (omega2 > 0.0f)
-    step = mechanics_.courant / std::sqrt(omega2);
-  if (speed > 0.0f)
-    step =
-        std::min(step, mechanics_.travel *
-                           (field_.half_thickness() - field_.core()) / speed);
+  if (omega2 > 0.0f) step = std::min(step, mechanics_.courant / std::sqrt(omega2));
+  if (speed > 0.0f) step = std::min(step, mechanics_.travel * (field_.half_thickness() - field_.core()) / speed);
   return step;
 }
 
-bool KnitSimulation::Penetrates(const std::vector<glm::vec3> &x) const {
-  for (size_t p = 0; p < x.size(); ++p) {
-    for (const Collider &collider : colliders_) {
-      if (collider.Nearest(x[p]).distance < 0.0f &&
-          collider.Nearest(x_[p]).distance >= 0.0f)
-        return true;
-    }
+bool KnitSimulation::EntersCloth(const std::vector<glm::vec3>& x) const {
+  const std::vector<glm::uvec3>& triangles = contacts_->triangles();
+  const float nearest_field = kNearestField * field_.core();
+  for (const PointTriangle& pair : contacts_->pairs()) {
+    const glm::uvec3 t = triangles[pair.triangle];
+    const size_t p = pair.point;
+    const auto distance = [&](const std::vector<glm::vec3>& y) {
+      return glm::distance(y[p], ClosestPointOnTriangle(y[p], y[t.x], y[t.y], y[t.z]).point);
+    };
+    if (distance(x) < nearest_field && distance(x_) >= nearest_field) return true;
+    const auto side = [&](const std::vector<glm::vec3>& y) {
+      return glm::dot(y[p] - y[t.x], glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x]));
+    };
+    const float before = side(x_), after = side(x);
+    if (before == 0.0f || (before > 0.0f) == (after > 0.0f)) continue;
+    // Where the point meets the plane, taking the motion as linear.
+    const float s = before / (before - after);
+    const auto at = [&](size_t q) { return glm::mix(x_[q], x[q], s); };
+    const glm::vec3 w = ProjectedWeights(at(p), at(t.x), at(t.y), at(t.z));
+    if (w.x >= 0.0f && w.y >= 0.0f && w.z >= 0.0f && w != glm::vec3(0.0f)) return true;
   }
   return false;
 }
 
-float KnitSimulation::ColliderDistance(const std::vector<glm::vec3> &x) const {
+float KnitSimulation::SelfDistance(const std::vector<glm::vec3>& x) const {
   float least = std::numeric_limits<float>::infinity();
-  for (const glm::vec3 &p : x) {
-    for (const Collider &collider : colliders_)
-      least = std::min(least, collider.Nearest(p).distance);
+  for (const PointTriangle& pair : contacts_->pairs()) {
+    const glm::uvec3 t = contacts_->triangles()[pair.triangle];
+    least = std::min(least,
+                     glm::distance(x[pair.point], ClosestPointOnTriangle(x[pair.point], x[t.x], x[t.y], x[t.z]).point));
   }
   return least;
 }
 
-void KnitSimulation::Integrate(float dt, std::vector<glm::vec3> &x,
-                               std::vector<glm::vec3> &v) {
+bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x) const {
+  const float nearest_field = kNearestField * field_.core();
+  for (size_t p = 0; p < x.size(); ++p) {
+    for (const Collider& collider : colliders_) {
+      if (collider.Nearest(x[p]).distance < nearest_field && collider.Nearest(x_[p]).distance >= nearest_field) {
+        return true;
+      }
+    }
+  }
+  return contacts_ && EntersCloth(x);
+}
+
+float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x) const {
+  float least = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : x) {
+    for (const Collider& collider : colliders_) least = std::min(least, collider.Nearest(p).distance);
+  }
+  return least;
+}
+
+void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) {
   // Second-order Runge–Kutta (midpoint).
+  if (contacts_) contacts_->Update(x_);
   Accelerations(x_, v_, dt, a1_);
   x_mid_.resize(x_.size());
   v_mid_.resize(x_.size());
@@ -219,6 +332,7 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3> &x,
     x_mid_[p] = x_[p] + 0.5f * dt * v_[p];
     v_mid_[p] = v_[p] + 0.5f * dt * a1_[p];
   }
+  if (contacts_) contacts_->Update(x_mid_);
   Accelerations(x_mid_, v_mid_, dt, a2_);
   x.resize(x_.size());
   v.resize(x_.size());
@@ -226,22 +340,50 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3> &x,
     x[p] = x_[p] + dt * v_mid_[p];
     v[p] = v_[p] + dt * a2_[p];
   }
+  Smooth(dt, x, v);
+}
+
+void KnitSimulation::Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) {
+  const float s = 1.0f - std::exp(-mechanics_.smoothing_rate * dt);
+  if (!(s > 0.0f)) return;
+  // The mean of a point's grid neighbours' displacement (then velocity) over the
+  // step; a pinned neighbour's is zero.
+  const auto smooth = [&](const auto& value, std::vector<glm::vec3>& out) {
+    mean_.resize(x.size());
+    for (int j = 0; j < cloth_.along; ++j) {
+      for (int i = 0; i < cloth_.across; ++i) {
+        glm::vec3 sum(0.0f);
+        int n = 0;
+        for (const glm::ivec2 step : {glm::ivec2(-1, 0), glm::ivec2(1, 0), glm::ivec2(0, -1), glm::ivec2(0, 1)}) {
+          const int ni = i + step.x, nj = j + step.y;
+          if (ni < 0 || nj < 0 || ni >= cloth_.across || nj >= cloth_.along) continue;
+          sum += value(cloth_.Index(ni, nj));
+          ++n;
+        }
+        mean_[cloth_.Index(i, j)] = sum / static_cast<float>(n);
+      }
+    }
+    for (size_t p = 0; p < x.size(); ++p) {
+      if (!pinned_[p]) out[p] += s * (mean_[p] - value(p));
+    }
+  };
+  smooth([&](size_t p) { return x[p] - x_[p]; }, x);
+  smooth([&](size_t p) { return v[p]; }, v);
 }
 
 void KnitSimulation::Advance(float duration, float max_step) {
-  if (!(max_step > 0.0f))
-    throw Error(ErrorCode::kInvalidArgument,
-                "knit simulation: max_step must be > 0");
+  if (!(max_step > 0.0f)) throw Error(ErrorCode::kInvalidArgument, "knit simulation: max_step must be > 0");
   std::vector<glm::vec3> x, v;
   double left = duration;
   while (left > 0.0) {
+    if (contacts_) contacts_->Update(x_);
     float dt = std::min({max_step, StableStep(), static_cast<float>(left)});
-    // A point outside a collider now must stay outside; halve the step until it
-    // does.
+    // A point outside a collider now must stay outside, and on its side of the
+    // cloth's triangles; halve the step until it does.
     for (int halving = 0;; ++halving) {
       Integrate(dt, x, v);
-      if (!Penetrates(x))
-        break;
+      if (contacts_) contacts_->Update(x);
+      if (!Penetrates(x)) break;
       if (halving == mechanics_.max_halvings) {
         ++counts_.penetrations;
         break;
@@ -252,10 +394,11 @@ void KnitSimulation::Advance(float duration, float max_step) {
     x_.swap(x);
     v_.swap(v);
     min_distance_ = std::min(min_distance_, ColliderDistance(x_));
+    if (contacts_) min_self_distance_ = std::min(min_self_distance_, SelfDistance(x_));
     left -= dt;
     time_ += dt;
     ++counts_.steps;
   }
 }
 
-} // namespace loom::animate
+}  // namespace loom::animate

@@ -2,20 +2,22 @@
 // The lumislice paper's knit animation (§4.1–4.2): a KnitCloth's mass points
 // moved by its springs (balance interval), bending, shearing, gravity and air
 // viscosity, the thickness force field of the colliders with static and dynamic
-// friction, integrated by second-order Runge–Kutta. Each step is as long as the
-// stability (CFL) bound allows, and is redone at half its length while it would
-// carry a point into a collider. Units, constants and derivations:
-// docs/animation.md.
+// friction, the field of the cloth's own non-adjacent triangles with dynamic
+// self-friction, integrated by second-order Runge–Kutta and smoothed. Each step
+// is as long as the stability (CFL) bound allows, and is redone at half its
+// length while it would carry a point into a collider or through one of the
+// cloth's triangles. Units, constants and derivations: docs/animation.md.
 //
-// Not yet: self-collision and self-friction, the position smoothing filter,
-// moving colliders (docs/animation.md "Next").
+// Not yet: moving colliders and mesh colliders (docs/animation.md "Next").
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <vector>
 
 #include "core/animate/collider.h"
 #include "core/animate/knit_cloth.h"
 #include "core/animate/knit_forces.h"
+#include "core/animate/self_contact.h"
 
 namespace loom::animate {
 
@@ -23,18 +25,17 @@ namespace loom::animate {
 // in loops, seconds). Defaults: the paper's §6 where its constants can hold a
 // cloth, and docs/animation.md says where they cannot.
 struct KnitMechanics {
-  SpringLaw wale{1500.0f, 3000.0f};   // c₀ wale, c₁
-  SpringLaw course{2000.0f, 3000.0f}; // c₀ course, c₁
-  float bend_wale = 100.0f;           // c₂ wale
-  float bend_course = 150.0f;         // c₂ course
-  float shear = 1000.0f;              // c₃
-  float half_thickness = 0.9f;        // T
-  float core = 0.1f;                  // τ
-  float field_strength =
-      100.0f; // c₅ (the paper's 0.2 cannot bear a point's weight)
-  float static_friction = 1.0f;  // K_s
-  float dynamic_friction = 0.5f; // K_d
-  float air_viscosity = 0.6f;    // c₉
+  SpringLaw wale{1500.0f, 3000.0f};    // c₀ wale, c₁
+  SpringLaw course{2000.0f, 3000.0f};  // c₀ course, c₁
+  float bend_wale = 100.0f;            // c₂ wale
+  float bend_course = 150.0f;          // c₂ course
+  float shear = 1000.0f;               // c₃
+  float half_thickness = 0.9f;         // T
+  float core = 0.1f;                   // τ
+  float field_strength = 100.0f;       // c₅ (the paper's 0.2 cannot bear a point's weight)
+  float static_friction = 1.0f;        // K_s
+  float dynamic_friction = 0.5f;       // K_d
+  float air_viscosity = 0.6f;          // c₉
   glm::vec3 gravity{0.0f, 0.0f, -9.81f};
   // A step is at most courant / ω_max, ω_max² the largest stiffness a point
   // feels…
@@ -42,22 +43,39 @@ struct KnitMechanics {
   // …and carries no point further than this fraction of the field's fibre layer
   // (T − τ).
   float travel = 0.5f;
-  // A step that carries a point into a collider is redone at half its length,
-  // at most this many times (0: never).
+  // A step that carries a point into a collider or through a triangle of the
+  // cloth is redone at half its length, at most this many times (0: never).
   int max_halvings = 12;
+  // Self-contact: the field of the cloth's triangles acts on its points that lie
+  // within `cone_degrees` of a triangle's normal, except the triangles of a
+  // point's own neighbourhood (`self_exclusion` grid rings); dynamic
+  // self-friction is K_d times the field of strength c₇ (the paper's c₇ : c₅ =
+  // 0.3 : 0.2 kept).
+  bool self_collision = true;
+  float self_friction_strength = 150.0f;  // c₇
+  float cone_degrees = 45.0f;
+  int self_exclusion = 2;
+  // Point–triangle pairs are searched again once a point has moved half this.
+  float contact_skin = 0.5f;
+  // The smoothing filter: after each step a point's displacement and velocity
+  // move towards the mean of its grid neighbours' by 1 − e^{−rate·dt}.
+  float smoothing_rate = 2.0f;
+  // Threads of the contact search (0: every core).
+  unsigned threads = 0;
 };
 
 struct SimulationCounts {
-  long steps = 0;    // steps taken
-  long halvings = 0; // steps redone at half their length
-  long penetrations =
-      0; // steps that carried a point into a collider after the last halving
+  long steps = 0;     // steps taken
+  long halvings = 0;  // steps redone at half their length
+  // Steps that, after the last halving, carried a point into a collider or
+  // through the cloth, or to within 0.02τ of either.
+  long penetrations = 0;
+  long contact_searches = 0;  // times the self-contact pairs were searched
 };
 
 class KnitSimulation {
-public:
-  KnitSimulation(const KnitCloth &cloth, const KnitMechanics &mechanics,
-                 std::vector<Collider> colliders);
+ public:
+  KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mechanics, std::vector<Collider> colliders);
 
   // Holds point `index` where it is.
   void Pin(size_t index);
@@ -68,29 +86,44 @@ public:
   // `max_step`.
   void Advance(float duration, float max_step);
 
-  const std::vector<glm::vec3> &positions() const { return x_; }
-  const std::vector<glm::vec3> &velocities() const { return v_; }
-  const KnitCloth &cloth() const { return cloth_; }
-  const KnitMechanics &mechanics() const { return mechanics_; }
-  const ThicknessField &field() const { return field_; }
+  const std::vector<glm::vec3>& positions() const { return x_; }
+  const std::vector<glm::vec3>& velocities() const { return v_; }
+  const KnitCloth& cloth() const { return cloth_; }
+  const KnitMechanics& mechanics() const { return mechanics_; }
+  const ThicknessField& field() const { return field_; }
   double time() const { return time_; }
-  const SimulationCounts &counts() const { return counts_; }
   // ½ Σ |v|² over the points.
   double KineticEnergy() const;
   // The least signed distance from any point to any collider since the start.
   float min_collider_distance() const { return min_distance_; }
+  // The least distance from any point to a triangle of the cloth outside its
+  // neighbourhood at the end of a step since the start (+∞ while none came
+  // within the field, or without self-collision).
+  float min_self_distance() const { return min_self_distance_; }
+  SimulationCounts counts() const;
 
+ private:
   // The acceleration of every point at positions x and velocities v, for a step
-  // of length dt (friction stops at most what dt would carry on).
-  void Accelerations(const std::vector<glm::vec3> &x,
-                     const std::vector<glm::vec3> &v, float dt,
-                     std::vector<glm::vec3> &a) const;
+  // of length dt (friction stops at most what dt would carry on). The contact
+  // pairs must have been updated for x.
+  void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+                     std::vector<glm::vec3>& a) const;
+  // The self-contact forces and dynamic self-friction, added to a.
+  void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+                      std::vector<glm::vec3>& a) const;
+  // Whether the step from x_ to x carries a point through a non-adjacent
+  // triangle (its signed distance to the triangle's plane changes sign while its
+  // projection lies inside the triangle) or to within 0.02τ of one.
+  bool EntersCloth(const std::vector<glm::vec3>& x) const;
+  // The least distance from a point to a non-adjacent triangle at x.
+  float SelfDistance(const std::vector<glm::vec3>& x) const;
+  // The smoothing filter on the step from x_ to (x, v).
+  void Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
 
-private:
   struct Spring {
     size_t a, b;
     float rest;
-    const SpringLaw *law;
+    const SpringLaw* law;
   };
   struct Triple {
     size_t a, b, c;
@@ -99,28 +132,30 @@ private:
 
   // The longest stable step at the present state.
   float StableStep() const;
-  // Whether a point outside a collider at the present positions is inside one
-  // at x.
-  bool Penetrates(const std::vector<glm::vec3> &x) const;
+  // Whether a point farther than 0.02τ from a collider at the present positions
+  // is nearer at x (inside it included), or EntersCloth(x).
+  bool Penetrates(const std::vector<glm::vec3>& x) const;
   // The least signed distance from the points x to any collider.
-  float ColliderDistance(const std::vector<glm::vec3> &x) const;
+  float ColliderDistance(const std::vector<glm::vec3>& x) const;
   // One RK2 step of length dt from (x_, v_) into (x, v).
-  void Integrate(float dt, std::vector<glm::vec3> &x,
-                 std::vector<glm::vec3> &v);
+  void Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
 
   KnitCloth cloth_;
   KnitMechanics mechanics_;
   ThicknessField field_;
   std::vector<Collider> colliders_;
+  ThicknessField self_friction_field_;
+  std::unique_ptr<SelfContactPairs> contacts_;  // null without self-collision
   std::vector<Spring> springs_;
   std::vector<Triple> bends_, shears_;
   std::vector<char> pinned_;
   std::vector<glm::vec3> x_, v_;
   // Scratch of a step.
-  std::vector<glm::vec3> a1_, a2_, x_mid_, v_mid_;
+  std::vector<glm::vec3> a1_, a2_, x_mid_, v_mid_, mean_;
   double time_ = 0.0;
   SimulationCounts counts_;
   float min_distance_;
+  float min_self_distance_;
 };
 
-} // namespace loom::animate
+}  // namespace loom::animate

@@ -8,28 +8,24 @@ namespace loom::animate {
 namespace {
 
 TEST(KnitSimulation, AHangingClothComesToRestCarryingItsWeight) {
-  const KnitCloth cloth = FlatKnitCloth(
-      5, 8, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 0, -1));
+  const KnitCloth cloth = FlatKnitCloth(5, 8, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 0, -1));
   KnitSimulation sim(cloth, KnitMechanics{}, {});
-  for (int i = 0; i < cloth.across; ++i)
-    sim.Pin(cloth.Index(i, 0));
+  for (int i = 0; i < cloth.across; ++i) sim.Pin(cloth.Index(i, 0));
   sim.Advance(30.0f, 0.04f);
   EXPECT_LT(sim.KineticEnergy(), 1e-5);
   // The springs under the pinned course hold up the 5 × 7 free loops.
-  const auto &x = sim.positions();
+  const auto& x = sim.positions();
   glm::vec3 held(0.0f);
   for (int i = 0; i < cloth.across; ++i) {
     const glm::vec3 d = x[cloth.Index(i, 1)] - x[cloth.Index(i, 0)];
-    held += SpringForce(KnitMechanics{}.wale, 1.0f, glm::length(d)) *
-            glm::normalize(d);
+    held += SpringForce(KnitMechanics{}.wale, 1.0f, glm::length(d)) * glm::normalize(d);
   }
   EXPECT_NEAR(-held.z, 35 * 9.81f, 0.02f * 35 * 9.81f);
   // No course is pulled or pushed: their springs lie inside the balance
   // interval.
   for (int j = 0; j < cloth.along; ++j) {
     for (int i = 0; i + 1 < cloth.across; ++i) {
-      const float length =
-          glm::length(x[cloth.Index(i + 1, j)] - x[cloth.Index(i, j)]);
+      const float length = glm::length(x[cloth.Index(i + 1, j)] - x[cloth.Index(i, j)]);
       EXPECT_GE(length, 0.95f - 1e-3f);
       EXPECT_LE(length, 1.05f + 1e-3f);
     }
@@ -40,16 +36,13 @@ TEST(KnitSimulation, AHangingClothComesToRestCarryingItsWeight) {
 // far it moves in 2 s.
 float SlideOnSlope(float degrees, float static_friction) {
   const float angle = glm::radians(degrees);
-  const glm::vec3 normal(0, -std::sin(angle), std::cos(angle)),
-      down(0, -std::cos(angle), -std::sin(angle));
+  const glm::vec3 normal(0, -std::sin(angle), std::cos(angle)), down(0, -std::cos(angle), -std::sin(angle));
   KnitMechanics mechanics;
   mechanics.static_friction = static_friction;
-  const ThicknessField field(mechanics.half_thickness, mechanics.core,
-                             mechanics.field_strength);
+  const ThicknessField field(mechanics.half_thickness, mechanics.core, mechanics.field_strength);
   const float depth = field.DistanceOf(9.81f * std::cos(angle));
   const KnitCloth cloth =
-      FlatKnitCloth(4, 4, 1.0f, 1.0f, depth * normal + glm::vec3(-1.5f, 0, 0),
-                    glm::vec3(1, 0, 0), -down);
+      FlatKnitCloth(4, 4, 1.0f, 1.0f, depth * normal + glm::vec3(-1.5f, 0, 0), glm::vec3(1, 0, 0), -down);
   KnitSimulation sim(cloth, mechanics, {Collider::Plane(glm::vec3(0), normal)});
   const glm::vec3 start = sim.positions()[0];
   sim.Advance(2.0f, 0.04f);
@@ -71,15 +64,12 @@ TEST(KnitSimulation, StaticFrictionHoldsBelowItsAngleAndLetsGoAbove) {
 constexpr float kSpeed = 30.0f;
 KnitSimulation Thrown(int max_halvings) {
   KnitMechanics mechanics;
-  mechanics.travel = 1e9f; // only the halving keeps the points out
+  mechanics.travel = 1e9f;  // only the halving keeps the points out
   mechanics.max_halvings = max_halvings;
   const KnitCloth cloth =
-      FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0, 0, 0.95f),
-                    glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
-  KnitSimulation sim(cloth, mechanics,
-                     {Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1))});
-  for (size_t p = 0; p < 4; ++p)
-    sim.SetVelocity(p, glm::vec3(0, 0, -kSpeed));
+      FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0, 0, 0.95f), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, mechanics, {Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1))});
+  for (size_t p = 0; p < 4; ++p) sim.SetVelocity(p, glm::vec3(0, 0, -kSpeed));
   sim.Advance(1.0f, 0.04f);
   return sim;
 }
@@ -96,5 +86,132 @@ TEST(KnitSimulation, TheHalvedStepPreventsAPenetrationTheFullStepMakes) {
   EXPECT_GT(halved.positions()[0].z, 0.0f);
 }
 
-} // namespace
-} // namespace loom::animate
+// A 5 × 32 strip lying on a floor, its second half folded back 1 loop above its
+// first (the fold between courses 15 and 16), released.
+KnitSimulation FoldedOnFloor(const KnitMechanics& mechanics) {
+  const ThicknessField field(mechanics.half_thickness, mechanics.core, mechanics.field_strength);
+  const float floor_rest = field.DistanceOf(2 * 9.81f);  // the bottom layer carries both
+  KnitCloth cloth = FlatKnitCloth(5, 32, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  for (int j = 0; j < 32; ++j) {
+    for (int i = 0; i < 5; ++i) {
+      cloth.positions[cloth.Index(i, j)] = j < 16 ? glm::vec3(i, j, floor_rest) : glm::vec3(i, 31 - j, floor_rest + 1);
+    }
+  }
+  return KnitSimulation(cloth, mechanics, {Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1))});
+}
+
+// The mean height of the top layer's points above the bottom layer's beneath
+// them, far from the fold (whose stiffness arches the top layer near it).
+float LayerGap(const KnitSimulation& sim) {
+  const KnitCloth& cloth = sim.cloth();
+  float sum = 0.0f;
+  int n = 0;
+  for (int j = 1; j < 6; ++j) {
+    for (int i = 0; i < 5; ++i) {
+      sum += sim.positions()[cloth.Index(i, 31 - j)].z - sim.positions()[cloth.Index(i, j)].z;
+      ++n;
+    }
+  }
+  return sum / n;
+}
+
+TEST(KnitSimulation, AFoldedClothRestsOnItselfThroughTheThicknessField) {
+  KnitSimulation sim = FoldedOnFloor(KnitMechanics{});
+  sim.Advance(12.0f, 0.04f);
+  EXPECT_LT(sim.KineticEnergy(), 0.05);
+  // The top layer rests in the bottom's field where it bears its weight, as on
+  // a floor: each contact is met from both layers.
+  const float rest = ThicknessField(0.9f, 0.1f, 100.0f).DistanceOf(9.81f);
+  EXPECT_NEAR(LayerGap(sim), rest, 0.03f);
+  EXPECT_GT(sim.min_self_distance(), 0.2f);
+  EXPECT_EQ(sim.counts().penetrations, 0);
+  EXPECT_GT(sim.counts().contact_searches, 0);
+  // Without self-collision the top layer falls through to the floor's field.
+  KnitMechanics ghost;
+  ghost.self_collision = false;
+  KnitSimulation through = FoldedOnFloor(ghost);
+  through.Advance(12.0f, 0.04f);
+  EXPECT_LT(LayerGap(through), 0.15f);
+}
+
+// How far the folded strip's top layer slides along the course in 1 s, thrown
+// at 3 loops/s, with self-friction of strength c7.
+float SlideOverItself(float c7) {
+  KnitMechanics mechanics;
+  mechanics.self_friction_strength = c7;
+  KnitSimulation sim = FoldedOnFloor(mechanics);
+  sim.Advance(1.0f, 0.04f);  // settle
+  const KnitCloth& cloth = sim.cloth();
+  const size_t probe = cloth.Index(2, 28);
+  const float start = sim.positions()[probe].x;
+  for (int j = 16; j < 32; ++j) {
+    for (int i = 0; i < 5; ++i) sim.SetVelocity(cloth.Index(i, j), glm::vec3(3, 0, 0));
+  }
+  sim.Advance(1.0f, 0.04f);
+  EXPECT_EQ(sim.counts().penetrations, 0);
+  return sim.positions()[probe].x - start;
+}
+
+TEST(KnitSimulation, SelfFrictionSlowsALayerSlidingOverAnother) {
+  const float rough = SlideOverItself(150.0f), smooth = SlideOverItself(1e-3f);
+  EXPECT_GT(smooth, 0.3f);
+  EXPECT_LT(rough, 0.6f * smooth);
+}
+
+// The folded strip's top layer thrown down at the bottom at kSpeed from 1 loop
+// above it, with no travel bound (which would otherwise slow it down in time).
+KnitSimulation ThrownOntoItself(int max_halvings) {
+  KnitMechanics mechanics;
+  mechanics.max_halvings = max_halvings;
+  mechanics.travel = 1e9f;
+  KnitSimulation sim = FoldedOnFloor(mechanics);
+  const KnitCloth& cloth = sim.cloth();
+  for (int j = 17; j < 32; ++j) {
+    for (int i = 0; i < 5; ++i) sim.SetVelocity(cloth.Index(i, j), glm::vec3(0, 0, -kSpeed));
+  }
+  sim.Advance(0.06f, 0.04f);
+  return sim;
+}
+
+TEST(KnitSimulation, TheHalvedStepKeepsAPointFromPassingThroughTheCloth) {
+  const KnitSimulation full = ThrownOntoItself(0);
+  EXPECT_GT(full.counts().penetrations, 0);
+  const KnitSimulation halved = ThrownOntoItself(12);
+  EXPECT_EQ(halved.counts().penetrations, 0);
+  EXPECT_GT(halved.counts().halvings, 0);
+  EXPECT_GT(halved.min_self_distance(), 0.0f);
+  EXPECT_GT(LayerGap(halved), 0.0f);
+}
+
+// A 6 × 6 cloth in free fall whose points alternate ±1 loop/s up and down (a
+// checkerboard of jitter); its spread of vertical velocities after 0.1 s, and how
+// far its centre fell.
+std::pair<float, float> Jitter(float smoothing_rate) {
+  KnitMechanics mechanics;
+  mechanics.smoothing_rate = smoothing_rate;
+  const KnitCloth cloth = FlatKnitCloth(6, 6, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, mechanics, {});
+  for (int j = 0; j < 6; ++j) {
+    for (int i = 0; i < 6; ++i) sim.SetVelocity(cloth.Index(i, j), glm::vec3(0, 0, (i + j) % 2 ? 1.0f : -1.0f));
+  }
+  sim.Advance(0.1f, 0.04f);
+  float mean = 0.0f, spread = 0.0f, fall = 0.0f;
+  for (size_t p = 0; p < cloth.size(); ++p) mean += sim.velocities()[p].z / cloth.size();
+  for (size_t p = 0; p < cloth.size(); ++p) {
+    spread += std::abs(sim.velocities()[p].z - mean) / cloth.size();
+    fall += (cloth.positions[p].z - sim.positions()[p].z) / cloth.size();
+  }
+  return {spread, fall};
+}
+
+TEST(KnitSimulation, TheSmoothingFilterDampsJitterAndLeavesTheFallAlone) {
+  const auto [raw_spread, raw_fall] = Jitter(0.0f);
+  const auto [spread, fall] = Jitter(20.0f);
+  EXPECT_LT(spread, 0.5f * raw_spread);
+  // Free fall (½ g t² = 0.049) is the same motion for every point: unfiltered.
+  EXPECT_NEAR(fall, raw_fall, 1e-3f);
+  EXPECT_NEAR(raw_fall, 0.5f * 9.81f * 0.01f, 0.01f);
+}
+
+}  // namespace
+}  // namespace loom::animate
