@@ -35,7 +35,15 @@ Collider Collider::Box(glm::vec3 centre, glm::vec3 half_extent) {
   return c;
 }
 
-Contact Collider::Nearest(glm::vec3 p) const {
+Collider Collider::Moving(const Motion& motion) const {
+  if (!(motion.end >= motion.start)) throw Error(ErrorCode::kInvalidArgument, "collider motion: end before start");
+  Collider c = *this;
+  c.motion_ = motion;
+  return c;
+}
+
+Contact Collider::Nearest(glm::vec3 p, double t) const {
+  p -= motion_.Displacement(t);
   switch (kind_) {
     case Kind::kPlane:
       return {glm::dot(p - centre_, extent_), extent_};

@@ -1,9 +1,12 @@
 #pragma once
 // A solid a knit cloth falls on (the lumislice paper §4.1.2: "other objects"):
 // a plane, a sphere or a box, as a signed distance with the outward normal,
-// which is what the thickness force field and friction need of it.
+// which is what the thickness force field and friction need of it, moving
+// rigidly along a Motion (without turning).
 
 #include <glm/glm.hpp>
+
+#include "core/animate/motion.h"
 
 namespace loom::animate {
 
@@ -20,13 +23,20 @@ class Collider {
   // An axis-aligned box.
   static Collider Box(glm::vec3 centre, glm::vec3 half_extent);
 
-  Contact Nearest(glm::vec3 p) const;
+  // The collider moving along `motion` from where it was made.
+  Collider Moving(const Motion& motion) const;
+
+  // Its surface nearest p at time t (seconds).
+  Contact Nearest(glm::vec3 p, double t) const;
+  // Its velocity at time t.
+  glm::vec3 Velocity(double t) const { return motion_.Velocity(t); }
 
  private:
   enum class Kind { kPlane, kSphere, kBox };
   Kind kind_ = Kind::kPlane;
   glm::vec3 centre_{0.0f};
   glm::vec3 extent_{0.0f};  // plane: unit normal; sphere: radius in x; box: half extents
+  Motion motion_;
 };
 
 }  // namespace loom::animate

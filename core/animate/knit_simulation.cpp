@@ -58,7 +58,7 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
       }
     }
   }
-  min_distance_ = ColliderDistance(x_);
+  min_distance_ = ColliderDistance(x_, time_);
   if (mechanics_.self_collision) {
     if (!(mechanics_.cone_degrees > 0.0f && mechanics_.cone_degrees <= 90.0f)) {
       throw Error(ErrorCode::kInvalidArgument, "knit simulation: cone_degrees must lie in (0, 90]");
@@ -76,11 +76,23 @@ SimulationCounts KnitSimulation::counts() const {
   return counts;
 }
 
-void KnitSimulation::Pin(size_t index) {
+void KnitSimulation::Pin(size_t index, const Motion& motion, double release) {
   if (index >= pinned_.size())
     throw Error(ErrorCode::kInvalidArgument, "knit simulation: no point " + std::to_string(index));
+  if (!(motion.end >= motion.start))
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: pin motion ends before it starts");
+  if (pinned_[index])
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: point " + std::to_string(index) + " pinned twice");
   pinned_[index] = 1;
-  v_[index] = glm::vec3(0.0f);
+  pins_.push_back({index, x_[index] - motion.Displacement(time_), motion, release});
+  v_[index] = motion.Velocity(time_);
+}
+
+void KnitSimulation::MovePins(double t, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) const {
+  for (const Pinned& pin : pins_) {
+    x[pin.index] = pin.origin + pin.motion.Displacement(t);
+    v[pin.index] = pin.motion.Velocity(t);
+  }
 }
 
 void KnitSimulation::SetVelocity(size_t index, glm::vec3 velocity) {
@@ -95,7 +107,7 @@ double KnitSimulation::KineticEnergy() const {
   return energy;
 }
 
-void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
                                    std::vector<glm::vec3>& a) const {
   a.assign(x.size(), mechanics_.gravity);
   for (size_t p = 0; p < x.size(); ++p) a[p] -= mechanics_.air_viscosity * v[p];
@@ -121,12 +133,13 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
   // K_s·|F|).
   for (size_t p = 0; p < x.size(); ++p) {
     for (const Collider& collider : colliders_) {
-      const Contact contact = collider.Nearest(x[p]);
+      const Contact contact = collider.Nearest(x[p], t);
       if (contact.distance >= field_.half_thickness()) continue;
       const float normal_force = field_(std::max(contact.distance, kNearestField * field_.core()));
       const glm::vec3 n = contact.normal;
       const glm::vec3 tangential_force = a[p] - glm::dot(a[p], n) * n;
-      const glm::vec3 slip = v[p] - glm::dot(v[p], n) * n;
+      const glm::vec3 relative = v[p] - collider.Velocity(t);
+      const glm::vec3 slip = relative - glm::dot(relative, n) * n;
       const float slip_speed = glm::length(slip);
       a[p] += normal_force * n;
       if (slip_speed <= mechanics_.dynamic_friction * normal_force * dt &&
@@ -254,11 +267,11 @@ float KnitSimulation::StableStep() const {
   for (size_t p = 0; p < x_.size(); ++p) {
     if (pinned_[p]) continue;
     for (const Collider& collider : colliders_) {
-      const Contact contact = collider.Nearest(x_[p]);
+      const Contact contact = collider.Nearest(x_[p], time_);
       if (contact.distance >= field_.half_thickness()) continue;
       const float d = std::max(contact.distance, kNearestField * field_.core());
       stiffness[p] -= field_.Slope(d);
-      closing(d, -glm::dot(v_[p], contact.normal));
+      closing(d, -glm::dot(v_[p] - collider.Velocity(time_), contact.normal));
     }
     omega2 = std::max(omega2, stiffness[p]);
     speed = std::max(speed, glm::length(v_[p]));
@@ -302,11 +315,13 @@ float KnitSimulation::SelfDistance(const std::vector<glm::vec3>& x) const {
   return least;
 }
 
-bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x) const {
+bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t) const {
   const float nearest_field = kNearestField * field_.core();
   for (size_t p = 0; p < x.size(); ++p) {
+    if (pinned_[p]) continue;
     for (const Collider& collider : colliders_) {
-      if (collider.Nearest(x[p]).distance < nearest_field && collider.Nearest(x_[p]).distance >= nearest_field) {
+      if (collider.Nearest(x[p], t).distance < nearest_field &&
+          collider.Nearest(x_[p], time_).distance >= nearest_field) {
         return true;
       }
     }
@@ -314,10 +329,11 @@ bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x) const {
   return contacts_ && EntersCloth(x);
 }
 
-float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x) const {
+float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x, double t) const {
   float least = std::numeric_limits<float>::infinity();
-  for (const glm::vec3& p : x) {
-    for (const Collider& collider : colliders_) least = std::min(least, collider.Nearest(p).distance);
+  for (size_t p = 0; p < x.size(); ++p) {
+    if (pinned_[p]) continue;
+    for (const Collider& collider : colliders_) least = std::min(least, collider.Nearest(x[p], t).distance);
   }
   return least;
 }
@@ -325,7 +341,7 @@ float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x) const {
 void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) {
   // Second-order Runge–Kutta (midpoint).
   if (contacts_) contacts_->Update(x_);
-  Accelerations(x_, v_, dt, a1_);
+  Accelerations(x_, v_, time_, dt, a1_);
   x_mid_.resize(x_.size());
   v_mid_.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
@@ -333,7 +349,7 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<
     v_mid_[p] = v_[p] + 0.5f * dt * a1_[p];
   }
   if (contacts_) contacts_->Update(x_mid_);
-  Accelerations(x_mid_, v_mid_, dt, a2_);
+  Accelerations(x_mid_, v_mid_, time_ + 0.5 * dt, dt, a2_);
   x.resize(x_.size());
   v.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
@@ -341,6 +357,7 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<
     v[p] = v_[p] + dt * a2_[p];
   }
   Smooth(dt, x, v);
+  MovePins(time_ + dt, x, v);
 }
 
 void KnitSimulation::Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) {
@@ -374,16 +391,20 @@ void KnitSimulation::Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm
 void KnitSimulation::Advance(float duration, float max_step) {
   if (!(max_step > 0.0f)) throw Error(ErrorCode::kInvalidArgument, "knit simulation: max_step must be > 0");
   std::vector<glm::vec3> x, v;
-  double left = duration;
-  while (left > 0.0) {
+  const double end = time_ + duration;
+  while (time_ < end) {
     if (contacts_) contacts_->Update(x_);
-    float dt = std::min({max_step, StableStep(), static_cast<float>(left)});
+    double until = end;  // the step ends at the next release
+    for (const Pinned& pin : pins_) {
+      if (pin.release > time_) until = std::min(until, pin.release);
+    }
+    float dt = std::min({max_step, StableStep(), static_cast<float>(until - time_)});
     // A point outside a collider now must stay outside, and on its side of the
     // cloth's triangles; halve the step until it does.
     for (int halving = 0;; ++halving) {
       Integrate(dt, x, v);
       if (contacts_) contacts_->Update(x);
-      if (!Penetrates(x)) break;
+      if (!Penetrates(x, time_ + dt)) break;
       if (halving == mechanics_.max_halvings) {
         ++counts_.penetrations;
         break;
@@ -393,10 +414,20 @@ void KnitSimulation::Advance(float duration, float max_step) {
     }
     x_.swap(x);
     v_.swap(v);
-    min_distance_ = std::min(min_distance_, ColliderDistance(x_));
+    // A pin released now leaves its point with the velocity of its last step.
+    const double previous = time_;
+    time_ = until - time_ <= dt ? until : time_ + dt;
+    for (size_t k = 0; k < pins_.size();) {
+      if (pins_[k].release <= time_) {
+        pinned_[pins_[k].index] = 0;
+        v_[pins_[k].index] = pins_[k].motion.Velocity(previous);
+        pins_.erase(pins_.begin() + static_cast<std::ptrdiff_t>(k));
+      } else {
+        ++k;
+      }
+    }
+    min_distance_ = std::min(min_distance_, ColliderDistance(x_, time_));
     if (contacts_) min_self_distance_ = std::min(min_self_distance_, SelfDistance(x_));
-    left -= dt;
-    time_ += dt;
     ++counts_.steps;
   }
 }

@@ -8,15 +8,18 @@
 // length while it would carry a point into a collider or through one of the
 // cloth's triangles. Units, constants and derivations: docs/animation.md.
 //
-// Not yet: moving colliders and mesh colliders (docs/animation.md "Next").
+// Colliders and pinned points may move along prescribed motions. Not yet: mesh
+// colliders (docs/animation.md "Next").
 
 #include <glm/glm.hpp>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include "core/animate/collider.h"
 #include "core/animate/knit_cloth.h"
 #include "core/animate/knit_forces.h"
+#include "core/animate/motion.h"
 #include "core/animate/self_contact.h"
 
 namespace loom::animate {
@@ -77,13 +80,15 @@ class KnitSimulation {
  public:
   KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mechanics, std::vector<Collider> colliders);
 
-  // Holds point `index` where it is.
-  void Pin(size_t index);
+  // Holds point `index`, from where it is now, along `motion` until time
+  // `release` (seconds; never by default), when it goes free with the velocity
+  // it had.
+  void Pin(size_t index, const Motion& motion = {}, double release = std::numeric_limits<double>::infinity());
   // Sets a free point's velocity (a throw).
   void SetVelocity(size_t index, glm::vec3 velocity);
 
   // Advances the cloth by `duration` seconds in steps no longer than
-  // `max_step`.
+  // `max_step` (a step ends at a pin's release).
   void Advance(float duration, float max_step);
 
   const std::vector<glm::vec3>& positions() const { return x_; }
@@ -94,7 +99,8 @@ class KnitSimulation {
   double time() const { return time_; }
   // ½ Σ |v|² over the points.
   double KineticEnergy() const;
-  // The least signed distance from any point to any collider since the start.
+  // The least signed distance from any free point to any collider since the
+  // start.
   float min_collider_distance() const { return min_distance_; }
   // The least distance from any point to a triangle of the cloth outside its
   // neighbourhood at the end of a step since the start (+∞ while none came
@@ -106,7 +112,8 @@ class KnitSimulation {
   // The acceleration of every point at positions x and velocities v, for a step
   // of length dt (friction stops at most what dt would carry on). The contact
   // pairs must have been updated for x.
-  void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+  // The colliders are where they are at time t.
+  void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
                      std::vector<glm::vec3>& a) const;
   // The self-contact forces and dynamic self-friction, added to a.
   void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
@@ -134,9 +141,11 @@ class KnitSimulation {
   float StableStep() const;
   // Whether a point farther than 0.02τ from a collider at the present positions
   // is nearer at x (inside it included), or EntersCloth(x).
-  bool Penetrates(const std::vector<glm::vec3>& x) const;
+  bool Penetrates(const std::vector<glm::vec3>& x, double t) const;
   // The least signed distance from the points x to any collider.
-  float ColliderDistance(const std::vector<glm::vec3>& x) const;
+  float ColliderDistance(const std::vector<glm::vec3>& x, double t) const;
+  // Moves the pinned points to where their motions have them at time t.
+  void MovePins(double t, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) const;
   // One RK2 step of length dt from (x_, v_) into (x, v).
   void Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
 
@@ -148,7 +157,14 @@ class KnitSimulation {
   std::unique_ptr<SelfContactPairs> contacts_;  // null without self-collision
   std::vector<Spring> springs_;
   std::vector<Triple> bends_, shears_;
-  std::vector<char> pinned_;
+  struct Pinned {
+    size_t index;
+    glm::vec3 origin;
+    Motion motion;
+    double release;
+  };
+  std::vector<char> pinned_;  // per point
+  std::vector<Pinned> pins_;  // those not yet released
   std::vector<glm::vec3> x_, v_;
   // Scratch of a step.
   std::vector<glm::vec3> a1_, a2_, x_mid_, v_mid_, mean_;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "core/util/error.h"
+
 namespace loom::animate {
 namespace {
 
@@ -211,6 +213,47 @@ TEST(KnitSimulation, TheSmoothingFilterDampsJitterAndLeavesTheFallAlone) {
   // Free fall (½ g t² = 0.049) is the same motion for every point: unfiltered.
   EXPECT_NEAR(fall, raw_fall, 1e-3f);
   EXPECT_NEAR(raw_fall, 0.5f * 9.81f * 0.01f, 0.01f);
+}
+
+TEST(KnitSimulation, PinsFollowTheirMotionAndLetGoWithItsVelocity) {
+  KnitMechanics mechanics;
+  mechanics.air_viscosity = 0.0f;
+  const KnitCloth cloth = FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, mechanics, {});
+  // All four carried up at 2 loops/s from 0.1 s to 0.6 s, let go at 0.5 s.
+  for (size_t p = 0; p < 4; ++p) sim.Pin(p, Motion{glm::vec3(0, 0, 2), 0.1, 0.6}, 0.5);
+  sim.Advance(0.3f, 0.04f);
+  EXPECT_NEAR(sim.positions()[3].z, 0.4f, 1e-5f);
+  EXPECT_NEAR(sim.velocities()[3].z, 2.0f, 1e-5f);
+  sim.Advance(0.2f, 0.04f);  // to the release, exactly
+  EXPECT_NEAR(sim.positions()[3].z, 0.8f, 1e-4f);
+  // Free from 0.5 s: thrown up at 2 loops/s under gravity.
+  sim.Advance(0.3f, 0.04f);
+  EXPECT_NEAR(sim.positions()[3].z, 0.8f + 2 * 0.3f - 0.5f * 9.81f * 0.09f, 1e-3f);
+  EXPECT_THROW(sim.Pin(99), Error);
+}
+
+// A 4 × 4 patch resting on a floor that slides along itself at 1 loop/s (a
+// conveyor belt): its velocity along the belt after 2 s.
+float RideOnBelt(float static_friction, float dynamic_friction) {
+  KnitMechanics mechanics;
+  mechanics.static_friction = static_friction;
+  mechanics.dynamic_friction = dynamic_friction;
+  const ThicknessField field(mechanics.half_thickness, mechanics.core, mechanics.field_strength);
+  const KnitCloth cloth =
+      FlatKnitCloth(4, 4, 1.0f, 1.0f, glm::vec3(0, 0, field.DistanceOf(9.81f)), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  const Collider belt = Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1)).Moving(Motion{glm::vec3(1, 0, 0), 0.0, 1e9});
+  KnitSimulation sim(cloth, mechanics, {belt});
+  sim.Advance(2.0f, 0.04f);
+  EXPECT_GE(sim.min_collider_distance(), 0.0f);
+  return sim.velocities()[5].x;
+}
+
+TEST(KnitSimulation, FrictionActsOnTheSlipAgainstAMovingCollider) {
+  // Friction carries the patch along with the belt…
+  EXPECT_NEAR(RideOnBelt(1.0f, 0.5f), 1.0f, 0.02f);
+  // …and without friction the belt slides beneath it.
+  EXPECT_NEAR(RideOnBelt(0.0f, 0.0f), 0.0f, 0.02f);
 }
 
 }  // namespace
