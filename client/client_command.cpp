@@ -60,7 +60,7 @@ std::vector<ClientCommand> AddSpecCommands(CLI::App& app, ClientFlags& flags) {
   auto options = std::make_shared<Options>();
   auto* spec = app.add_subcommand("spec", "Work with spec files");
   auto* check = spec->add_subcommand("check", "Check a spec file as the server would (strict parse + every limit)");
-  check->add_option("kind", options->kind, "fabric, precompute or scene")->required();
+  check->add_option("kind", options->kind, "fabric, precompute, scene or animation")->required();
   check->add_option("file", options->path, "Spec file (JSON)")->required();
   check->add_flag("--normalized", options->normalized, "Print the spec with every default made explicit");
   return {{check, [&flags, options] {

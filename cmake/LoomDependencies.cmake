@@ -10,6 +10,7 @@ find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache
 find_package(CLI11 REQUIRED)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(embree 3 REQUIRED)         # ray casting for acquisition
+find_package(TinyGLTF REQUIRED)         # glTF 2.0 mesh sequences of animations
 find_package(Ceres REQUIRED)            # Levenberg–Marquardt lobe fitting (pulls glog, gflags)
 
 set(OpenGL_GL_PREFERENCE GLVND)

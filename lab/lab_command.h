@@ -40,6 +40,7 @@ LabCommand AddRenderCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddSweepCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags);
 LabCommand AddPlanCommand(CLI::App& app, const LabFlags& flags);
+LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags);
 
 // Shared by the GL subcommands: --software, and the context it asks for.
 struct GlFlags {

@@ -33,6 +33,7 @@ int Main(int argc, char** argv) {
       AddSweepCommand(app, flags),
       AddChartCommand(app, flags),
       AddPlanCommand(app, flags),
+      AddAnimateCommand(app, flags),
   };
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
   RequireSubcommand(app);

@@ -17,7 +17,7 @@ LabCommand AddValidateCommand(CLI::App& app, const LabFlags& flags) {
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand("validate", "Check a spec file: strict JSON parse, then every range rule");
-  command->add_option("kind", options->kind, "fabric, precompute or scene")->required();
+  command->add_option("kind", options->kind, "fabric, precompute, scene or animation")->required();
   command->add_option("file", options->path, "Spec file (JSON)")->required();
   return {command, [&flags, options] {
             const SpecCheck check = CheckSpecFile(ParseSpecKind(options->kind), options->path);

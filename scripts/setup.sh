@@ -22,6 +22,7 @@ PACKAGES=(
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev
   nlohmann-json3-dev libssl-dev
   libyaml-cpp-dev
+  libtinygltf-dev
   gnuplot-nox
   clang libclang-rt-14-dev
   python3-grpcio python3-protobuf

@@ -18,16 +18,18 @@ struct AngleGradient {
 
 AngleGradient AngleBetween(glm::vec3 p, glm::vec3 q) {
   AngleGradient g;
-  const float lp = glm::length(p), lq = glm::length(q);
-  if (lp <= 0.0f || lq <= 0.0f) return g;
-  const glm::vec3 pu = p / lp, qu = q / lq;
-  const float c = glm::clamp(glm::dot(pu, qu), -1.0f, 1.0f);
-  g.angle = std::acos(c);
-  const glm::vec3 q_perp = qu - c * pu, p_perp = pu - c * qu;
-  const float lqp = glm::length(q_perp), lpp = glm::length(p_perp);
-  if (lqp < 1e-6f || lpp < 1e-6f) return g;
-  g.d_p = -q_perp / (lqp * lp);
-  g.d_q = -p_perp / (lpp * lq);
+  const float pp = glm::dot(p, p), qq = glm::dot(q, q);
+  if (!(pp > 0.0f) || !(qq > 0.0f)) return g;
+  const float inverse_lp = 1.0f / std::sqrt(pp), inverse_lq = 1.0f / std::sqrt(qq);
+  const glm::vec3 pu = p * inverse_lp, qu = q * inverse_lq;
+  const float c = glm::dot(pu, qu);
+  // |p̂ × q̂| = sin θ = |q̂ − cos θ p̂| = |p̂ − cos θ q̂|.
+  const float s = glm::length(glm::cross(pu, qu));
+  g.angle = std::atan2(s, c);
+  if (s < 1e-6f) return g;
+  const float inverse_s = 1.0f / s;
+  g.d_p = (c * pu - qu) * (inverse_s * inverse_lp);
+  g.d_q = (c * qu - pu) * (inverse_s * inverse_lq);
   g.defined = true;
   return g;
 }

@@ -141,7 +141,8 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
       const glm::vec3 relative = v[p] - collider.Velocity(t);
       const glm::vec3 slip = relative - glm::dot(relative, n) * n;
       const float slip_speed = glm::length(slip);
-      a[p] += normal_force * n;
+      // The fibre layer damps the approach and the parting, but never pulls.
+      a[p] += std::max(normal_force - mechanics_.contact_damping * glm::dot(relative, n), 0.0f) * n;
       if (slip_speed <= mechanics_.dynamic_friction * normal_force * dt &&
           glm::length(tangential_force) <= mechanics_.static_friction * normal_force) {
         a[p] -= tangential_force + slip / dt;  // held
@@ -181,8 +182,8 @@ void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::
       a[t.x] -= w.x * f, a[t.y] -= w.y * f, a[t.z] -= w.z * f;
     };
     const float depth = std::max(touch.d, kNearestField * field_.core());
-    push(0.5f * field_(depth) * touch.u);
     const glm::vec3 relative = v[point] - (w.x * v[t.x] + w.y * v[t.y] + w.z * v[t.z]);
+    push(0.5f * std::max(field_(depth) - mechanics_.contact_damping * glm::dot(relative, touch.u), 0.0f) * touch.u);
     const glm::vec3 slip = relative - glm::dot(relative, touch.u) * touch.u;
     const float slip_speed = glm::length(slip);
     if (slip_speed > 0.0f) {

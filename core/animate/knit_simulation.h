@@ -39,6 +39,10 @@ struct KnitMechanics {
   float static_friction = 1.0f;        // K_s
   float dynamic_friction = 0.5f;       // K_d
   float air_viscosity = 0.6f;          // c₉
+  // Inside a field the normal velocity relative to the surface is damped at
+  // this rate (1/s), the push never turning into a pull: the fibre layer
+  // absorbs an impact instead of returning it (the paper's field is elastic).
+  float contact_damping = 50.0f;
   glm::vec3 gravity{0.0f, 0.0f, -9.81f};
   // A step is at most courant / ω_max, ω_max² the largest stiffness a point
   // feels…

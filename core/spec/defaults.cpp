@@ -1,5 +1,6 @@
 #include "core/spec/defaults.h"
 
+#include <cmath>
 #include <numeric>
 
 namespace loom {
@@ -56,6 +57,9 @@ constexpr float kDefaultFar = 100.0f;
 constexpr float kDefaultLightIntensity = 1.0f;
 // Objects without a fabric are Lambertian in their base colour: a light grey.
 constexpr float kDefaultBaseColour = 0.8f;
+
+// AnimationSpec: the paper's frame rate.
+constexpr float kDefaultFramesPerSecond = 25.0f;
 
 void SetGrey(v1::Rgb* rgb, float value) {
   rgb->set_r(value);
@@ -264,6 +268,24 @@ v1::SceneSpec WithDefaults(v1::SceneSpec scene) {
   for (v1::Light& light : *scene.mutable_lights()) ApplyLightDefaults(light);
   *scene.mutable_render() = WithDefaults(scene.render());
   return scene;
+}
+
+v1::AnimationSpec WithDefaults(v1::AnimationSpec animation) {
+  v1::KnitClothSpec& cloth = *animation.mutable_cloth();
+  if (cloth.course_spacing() == 0) cloth.set_course_spacing(1.0f);
+  if (cloth.wale_spacing() == 0) cloth.set_wale_spacing(1.0f);
+  const auto zero = [](const v1::Vec3& v) { return v.x() == 0 && v.y() == 0 && v.z() == 0; };
+  if (zero(cloth.course_axis())) cloth.mutable_course_axis()->set_x(1.0f);
+  if (zero(cloth.wale_axis())) cloth.mutable_wale_axis()->set_y(1.0f);
+  if (cloth.has_fabric()) *cloth.mutable_fabric() = WithDefaults(cloth.fabric());
+  if (animation.frames_per_second() == 0) animation.set_frames_per_second(kDefaultFramesPerSecond);
+  return animation;
+}
+
+uint64_t AnimationFrames(const v1::AnimationSpec& animation) {
+  const double frames = double{animation.duration_seconds()} * animation.frames_per_second();
+  if (!(frames > 0.0) || !std::isfinite(frames)) return 0;
+  return static_cast<uint64_t>(std::ceil(frames - 1e-3));
 }
 
 }  // namespace loom

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "loom/v1/animation.pb.h"
 #include "loom/v1/fabric.pb.h"
 #include "loom/v1/precompute.pb.h"
 #include "loom/v1/scene.pb.h"
@@ -18,6 +19,13 @@ v1::PrecomputeSettings WithDefaults(v1::PrecomputeSettings settings);
 v1::RenderSettings WithDefaults(v1::RenderSettings settings);
 // Applies the defaults of every nested fabric, precompute and render setting too.
 v1::SceneSpec WithDefaults(v1::SceneSpec scene);
+// Loop spacings 1, the cloth along +x (courses) and +y (wales), 25 frames a
+// second, the fabric's defaults.
+v1::AnimationSpec WithDefaults(v1::AnimationSpec animation);
+// The frames after the first an animation records, ⌈duration × rate⌉ (a product
+// within 10⁻³ of a whole number counts as it): frame k at k / rate seconds. 0
+// for a duration or rate that is not positive and finite.
+uint64_t AnimationFrames(const v1::AnimationSpec& animation);
 
 // The methods whose assets are tables over the stored directions (tabulated, and
 // factored, which factors the table): they keep every sample per level while they

@@ -163,4 +163,29 @@ inline constexpr uint32_t kMaxReferenceSamples = 4096;
 // coarsest level wherever a texel is within 16× a pixel.
 inline constexpr float kMaxLodBias = 4.0f;
 
+// --- AnimationSpec ---------------------------------------------------------------
+
+// Loops a side of an animated cloth, and loops in all: each is a mass point the
+// simulation steps thousands of times a second of animation.
+inline constexpr uint32_t kMinClothLoops = 2;
+inline constexpr uint32_t kMaxClothLoops = 2048;
+inline constexpr uint64_t kMaxClothPoints = 262144;
+// Rest loop spacing in the simulation's units (a loop is 1).
+inline constexpr float kMaxLoopSpacing = 100.0f;
+// Positions, collider sizes and speeds (loops, loops/s): far beyond them float
+// positions lose the field's fraction of a loop.
+inline constexpr float kMaxAnimationCoordinate = 100000.0f;
+inline constexpr float kMaxColliderSize = 10000.0f;
+inline constexpr float kMaxAnimationSpeed = 1000.0f;
+inline constexpr int kMaxPins = 4096;
+inline constexpr int kMaxColliders = 64;
+// Simulated seconds and frames. The glTF sequence holds a morph target a frame
+// and, a frame, a weight for every target (frames² floats: 36 MB at the cap).
+inline constexpr float kMaxAnimationSeconds = 600.0f;
+inline constexpr float kMaxFramesPerSecond = 120.0f;
+inline constexpr uint64_t kMaxAnimationFrames = 3000;
+// Frames × loops: the sequence's points, kept in memory and written out
+// (12 bytes each: 805 MB at the cap).
+inline constexpr uint64_t kMaxAnimationPoints = uint64_t{1} << 26;
+
 }  // namespace loom

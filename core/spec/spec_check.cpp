@@ -19,8 +19,9 @@ SpecKind ParseSpecKind(std::string_view name) {
   if (name == "fabric") return SpecKind::kFabric;
   if (name == "precompute") return SpecKind::kPrecompute;
   if (name == "scene") return SpecKind::kScene;
+  if (name == "animation") return SpecKind::kAnimation;
   throw Error(ErrorCode::kInvalidArgument,
-              "spec kind '" + std::string(name) + "' is not one of fabric, precompute, scene");
+              "spec kind '" + std::string(name) + "' is not one of fabric, precompute, scene, animation");
 }
 
 const char* SpecKindName(SpecKind kind) {
@@ -28,6 +29,7 @@ const char* SpecKindName(SpecKind kind) {
     case SpecKind::kFabric: return "fabric";
     case SpecKind::kPrecompute: return "precompute";
     case SpecKind::kScene: return "scene";
+    case SpecKind::kAnimation: return "animation";
   }
   return "?";
 }
@@ -37,6 +39,7 @@ SpecCheck CheckSpecFile(SpecKind kind, const std::filesystem::path& path) {
     case SpecKind::kFabric: return Check<v1::FabricSpec>(path, "fabric");
     case SpecKind::kPrecompute: return Check<v1::PrecomputeSettings>(path, "precompute");
     case SpecKind::kScene: return Check<v1::SceneSpec>(path, "scene");
+    case SpecKind::kAnimation: return Check<v1::AnimationSpec>(path, "animation");
   }
   throw Error(ErrorCode::kInternal, "unknown spec kind");
 }

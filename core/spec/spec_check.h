@@ -12,9 +12,9 @@
 
 namespace loom {
 
-enum class SpecKind { kFabric, kPrecompute, kScene };
+enum class SpecKind { kFabric, kPrecompute, kScene, kAnimation };
 
-// "fabric", "precompute" or "scene"; throws Error(kInvalidArgument) otherwise.
+// "fabric", "precompute", "scene" or "animation"; throws Error(kInvalidArgument) otherwise.
 SpecKind ParseSpecKind(std::string_view name);
 const char* SpecKindName(SpecKind kind);
 

@@ -8,6 +8,7 @@
 
 #include "core/util/error.h"
 #include "core/util/file_io.h"
+#include "loom/v1/animation.pb.h"
 #include "loom/v1/fabric.pb.h"
 #include "loom/v1/precompute.pb.h"
 #include "loom/v1/scene.pb.h"
@@ -107,6 +108,7 @@ template v1::FabricSpec LoadSpecFile<v1::FabricSpec>(const std::filesystem::path
 template v1::PrecomputeSettings LoadSpecFile<v1::PrecomputeSettings>(const std::filesystem::path&,
                                                                      std::string_view);
 template v1::SceneSpec LoadSpecFile<v1::SceneSpec>(const std::filesystem::path&, std::string_view);
+template v1::AnimationSpec LoadSpecFile<v1::AnimationSpec>(const std::filesystem::path&, std::string_view);
 
 std::string SpecToJson(const google::protobuf::Message& spec, bool pretty) {
   google::protobuf::util::JsonPrintOptions options;

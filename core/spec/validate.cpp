@@ -510,6 +510,126 @@ void CheckScene(const v1::SceneSpec& scene, const IssueCollector& at) {
   }
 }
 
+// --- AnimationSpec ------------------------------------------------------------------
+
+void CheckCoordinates(const IssueCollector& at, std::string_view field, const v1::Vec3& v, float bound) {
+  for (const auto& [component, value] : Components(v)) at.Field(field).Range(component, value, -bound, bound);
+}
+
+void CheckMotion(const v1::LinearMotion& motion, float duration, const IssueCollector& at) {
+  CheckCoordinates(at, "velocity", motion.velocity(), kMaxAnimationSpeed);
+  at.Min("start_seconds", motion.start_seconds(), 0.0f);
+  at.Min("end_seconds", motion.end_seconds(), motion.start_seconds(), "start_seconds");
+  at.Max("end_seconds", motion.end_seconds(), duration, "duration_seconds");
+}
+
+void CheckCloth(const v1::KnitClothSpec& cloth, const IssueCollector& at) {
+  at.Range("loops", cloth.loops(), kMinClothLoops, kMaxClothLoops);
+  at.Range("courses", cloth.courses(), kMinClothLoops, kMaxClothLoops);
+  at.Max("courses", uint64_t{cloth.loops()} * cloth.courses(), kMaxClothPoints, "loops × courses");
+  for (const auto& [field, spacing] :
+       {std::pair{"course_spacing", cloth.course_spacing()}, std::pair{"wale_spacing", cloth.wale_spacing()}}) {
+    at.Above(field, spacing, 0.0f);
+    at.Max(field, spacing, kMaxLoopSpacing);
+  }
+  CheckCoordinates(at, "origin", cloth.origin(), kMaxAnimationCoordinate);
+  if (IsParallel(cloth.course_axis(), cloth.wale_axis())) {
+    at.Report("wale_axis", Cat(cloth.wale_axis(), " is parallel to course_axis ", cloth.course_axis()));
+  }
+  if (cloth.has_fabric()) {
+    CheckFabric(cloth.fabric(), at.Field("fabric"));
+    if (!cloth.fabric().has_knit()) at.Report("fabric", "must be a knit fabric (the cloth is knitted)");
+  }
+}
+
+void CheckPins(const v1::AnimationSpec& animation, const IssueCollector& at) {
+  const uint32_t loops = animation.cloth().loops(), courses = animation.cloth().courses();
+  at.Max("pins", animation.pins_size(), kMaxPins);
+  if (animation.pins_size() > kMaxPins || uint64_t{loops} * courses > kMaxClothPoints) return;
+  std::vector<int> pinned_by(static_cast<size_t>(loops) * courses, -1);
+  for (int i = 0; i < animation.pins_size(); ++i) {
+    const v1::PinSpec& pin = animation.pins(i);
+    const IssueCollector element = at.Element("pins", i);
+    std::vector<std::pair<uint32_t, uint32_t>> held;  // (loop, course)
+    switch (pin.which_case()) {
+      case v1::PinSpec::kLoop:
+        element.Field("loop").Max("loop", pin.loop().loop(), loops - 1, "cloth.loops − 1");
+        element.Field("loop").Max("course", pin.loop().course(), courses - 1, "cloth.courses − 1");
+        held.emplace_back(pin.loop().loop(), pin.loop().course());
+        break;
+      case v1::PinSpec::kCourse:
+        element.Max("course", pin.course(), courses - 1, "cloth.courses − 1");
+        for (uint32_t l = 0; l < loops; ++l) held.emplace_back(l, pin.course());
+        break;
+      case v1::PinSpec::kWale:
+        element.Max("wale", pin.wale(), loops - 1, "cloth.loops − 1");
+        for (uint32_t c = 0; c < courses; ++c) held.emplace_back(pin.wale(), c);
+        break;
+      default: element.Report("names no loop, course or wale");
+    }
+    CheckMotion(pin.motion(), animation.duration_seconds(), element.Field("motion"));
+    element.Min("release_seconds", pin.release_seconds(), 0.0f);
+    element.Max("release_seconds", pin.release_seconds(), animation.duration_seconds(), "duration_seconds");
+    for (const auto& [loop, course] : held) {
+      if (loop >= loops || course >= courses) continue;
+      int& by = pinned_by[static_cast<size_t>(course) * loops + loop];
+      if (by >= 0) {
+        element.Report(Cat("pins loop (", loop, ", ", course, "), which pins[", by, "] pins already"));
+        break;
+      }
+      by = i;
+    }
+  }
+}
+
+void CheckCollider(const v1::ColliderSpec& collider, float duration, const IssueCollector& at) {
+  switch (collider.shape_case()) {
+    case v1::ColliderSpec::kPlane:
+      CheckCoordinates(at.Field("plane"), "point", collider.plane().point(), kMaxAnimationCoordinate);
+      if (IsZero(collider.plane().normal())) at.Field("plane").Report("normal", "is zero");
+      break;
+    case v1::ColliderSpec::kSphere:
+      CheckCoordinates(at.Field("sphere"), "centre", collider.sphere().centre(), kMaxAnimationCoordinate);
+      at.Field("sphere").Above("radius", collider.sphere().radius(), 0.0f);
+      at.Field("sphere").Max("radius", collider.sphere().radius(), kMaxColliderSize);
+      break;
+    case v1::ColliderSpec::kBox:
+      CheckCoordinates(at.Field("box"), "centre", collider.box().centre(), kMaxAnimationCoordinate);
+      for (const auto& [component, value] : Components(collider.box().half_extent())) {
+        at.Field("box").Field("half_extent").Above(component, value, 0.0f);
+        at.Field("box").Field("half_extent").Max(component, value, kMaxColliderSize);
+      }
+      break;
+    default: at.Report("names no plane, sphere or box");
+  }
+  CheckMotion(collider.motion(), duration, at.Field("motion"));
+}
+
+void CheckAnimation(const v1::AnimationSpec& animation, const IssueCollector& at) {
+  at.Length("name", animation.name(), kMaxNameLength);
+  CheckCloth(animation.cloth(), at.Field("cloth"));
+  at.Above("duration_seconds", animation.duration_seconds(), 0.0f);
+  at.Max("duration_seconds", animation.duration_seconds(), kMaxAnimationSeconds);
+  at.Above("frames_per_second", animation.frames_per_second(), 0.0f);
+  at.Max("frames_per_second", animation.frames_per_second(), kMaxFramesPerSecond);
+  if (const uint64_t frames = AnimationFrames(animation); frames > kMaxAnimationFrames) {
+    at.Report("frames_per_second", Cat(animation.frames_per_second(), " frames a second for ",
+                                       animation.duration_seconds(), " s make ", frames, " frames; at most ",
+                                       kMaxAnimationFrames));
+  } else if (const uint64_t points = (frames + 1) * animation.cloth().loops() * animation.cloth().courses();
+             points > kMaxAnimationPoints) {
+    at.Report("duration_seconds", Cat(frames + 1, " frames of ", animation.cloth().loops(), " × ",
+                                      animation.cloth().courses(), " loops make ", points, " points; at most ",
+                                      kMaxAnimationPoints));
+  }
+  CheckCoordinates(at, "initial_velocity", animation.initial_velocity(), kMaxAnimationSpeed);
+  CheckPins(animation, at);
+  at.Max("colliders", animation.colliders_size(), kMaxColliders);
+  for (int i = 0; i < animation.colliders_size(); ++i) {
+    CheckCollider(animation.colliders(i), animation.duration_seconds(), at.Element("colliders", i));
+  }
+}
+
 // Defaults first (zero means default), then the generic rules, then the spec's own.
 template <typename Spec>
 ValidationIssues ValidateWith(const Spec& spec, const std::string& root,
@@ -545,6 +665,10 @@ ValidationIssues Validate(const v1::RenderSettings& settings, const std::string&
 
 ValidationIssues Validate(const v1::SceneSpec& scene, const std::string& root) {
   return ValidateWith(scene, root, CheckScene);
+}
+
+ValidationIssues Validate(const v1::AnimationSpec& animation, const std::string& root) {
+  return ValidateWith(animation, root, CheckAnimation);
 }
 
 std::string FormatIssues(const ValidationIssues& issues) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "loom/v1/animation.pb.h"
 #include "loom/v1/fabric.pb.h"
 #include "loom/v1/precompute.pb.h"
 #include "loom/v1/scene.pb.h"
@@ -30,6 +31,7 @@ ValidationIssues Validate(const v1::PrecomputeSettings& settings, const std::str
 ValidationIssues Validate(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings);
 ValidationIssues Validate(const v1::RenderSettings& settings, const std::string& root = "render");
 ValidationIssues Validate(const v1::SceneSpec& scene, const std::string& root = "scene");
+ValidationIssues Validate(const v1::AnimationSpec& animation, const std::string& root = "animation");
 
 // One line per issue.
 std::string FormatIssues(const ValidationIssues& issues);

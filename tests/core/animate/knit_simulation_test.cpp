@@ -66,7 +66,8 @@ TEST(KnitSimulation, StaticFrictionHoldsBelowItsAngleAndLetsGoAbove) {
 constexpr float kSpeed = 30.0f;
 KnitSimulation Thrown(int max_halvings) {
   KnitMechanics mechanics;
-  mechanics.travel = 1e9f;  // only the halving keeps the points out
+  mechanics.travel = 1e9f;           // only the halving keeps the points out
+  mechanics.contact_damping = 0.0f;  // nor does damping slow them first
   mechanics.max_halvings = max_halvings;
   const KnitCloth cloth =
       FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0, 0, 0.95f), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
@@ -166,6 +167,7 @@ KnitSimulation ThrownOntoItself(int max_halvings) {
   KnitMechanics mechanics;
   mechanics.max_halvings = max_halvings;
   mechanics.travel = 1e9f;
+  mechanics.contact_damping = 0.0f;
   KnitSimulation sim = FoldedOnFloor(mechanics);
   const KnitCloth& cloth = sim.cloth();
   for (int j = 17; j < 32; ++j) {
@@ -254,6 +256,30 @@ TEST(KnitSimulation, FrictionActsOnTheSlipAgainstAMovingCollider) {
   EXPECT_NEAR(RideOnBelt(1.0f, 0.5f), 1.0f, 0.02f);
   // …and without friction the belt slides beneath it.
   EXPECT_NEAR(RideOnBelt(0.0f, 0.0f), 0.0f, 0.02f);
+}
+
+// A 3 × 3 patch dropped flat onto a floor from 5 loops up: how high it rises
+// after it first reaches the floor's field.
+float Rebound(float contact_damping) {
+  KnitMechanics mechanics;
+  mechanics.contact_damping = contact_damping;
+  const KnitCloth cloth = FlatKnitCloth(3, 3, 1.0f, 1.0f, glm::vec3(0, 0, 5), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, mechanics, {Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1))});
+  while (sim.positions()[4].z > 0.9f) sim.Advance(0.01f, 0.01f);
+  float highest = 0.0f;
+  for (int k = 0; k < 100; ++k) {
+    sim.Advance(0.01f, 0.01f);
+    highest = std::max(highest, sim.positions()[4].z);
+  }
+  EXPECT_EQ(sim.counts().penetrations, 0);
+  return highest;
+}
+
+TEST(KnitSimulation, TheFibreLayerAbsorbsAnImpact) {
+  // Damped, the patch stays in the field (below T = 0.9); the elastic field
+  // throws it back up most of the way.
+  EXPECT_LT(Rebound(50.0f), 0.9f);
+  EXPECT_GT(Rebound(0.0f), 2.5f);
 }
 
 }  // namespace

@@ -390,6 +390,77 @@ INSTANTIATE_TEST_SUITE_P(
 
 // --- Defaults validate clean ---------------------------------------------------
 
+// A valid animation: a 4 × 6 cloth for 1 s.
+constexpr std::string_view kAnimationBase = R"({"cloth": {"loops": 4, "courses": 6}, "duration_seconds": 1})";
+
+std::string AnimationJson(std::string_view patch) {
+  nlohmann::json json = nlohmann::json::parse(kAnimationBase);
+  json.merge_patch(nlohmann::json::parse(patch));
+  return json.dump();
+}
+
+class AnimationRule : public testing::TestWithParam<RuleCase> {};
+TEST_P(AnimationRule, ReportsPathAndLimit) {
+  ExpectSingleIssue(ValidateJson<v1::AnimationSpec>(GetParam().json, "animation"), GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Validate, AnimationRule,
+    testing::Values(
+        RuleCase{"ZeroLoops", AnimationJson(R"({"cloth": {"loops": 0}})"), "animation.cloth.loops", "0 is below 2"},
+        RuleCase{"TooManyCourses", AnimationJson(R"({"cloth": {"courses": 5000}})"), "animation.cloth.courses",
+                 "5000 exceeds 2048"},
+        RuleCase{"TooManyLoops", AnimationJson(R"({"cloth": {"loops": 1024, "courses": 1024}, "duration_seconds": 0.04})"),
+                 "animation.cloth.courses", "1048576 exceeds 262144 (loops × courses)"},
+        RuleCase{"NegativeSpacing", AnimationJson(R"({"cloth": {"wale_spacing": -1}})"), "animation.cloth.wale_spacing",
+                 "-1 is not above 0"},
+        RuleCase{"ParallelAxes", AnimationJson(R"({"cloth": {"course_axis": {"x": 1}, "wale_axis": {"x": 2}}})"),
+                 "animation.cloth.wale_axis", "(2, 0, 0) is parallel to course_axis (1, 0, 0)"},
+        RuleCase{"WovenCloth", AnimationJson(R"({"cloth": {"fabric": {"woven": {}}}})"), "animation.cloth.fabric",
+                 "must be a knit fabric (the cloth is knitted)"},
+        RuleCase{"NegativeDuration", AnimationJson(R"({"duration_seconds": -1})"), "animation.duration_seconds",
+                 "-1 is not above 0"},
+        RuleCase{"NoDuration", AnimationJson(R"({"duration_seconds": null})"), "animation.duration_seconds",
+                 "0 is not above 0"},
+        RuleCase{"LongDuration", AnimationJson(R"({"duration_seconds": 700, "frames_per_second": 1})"), "animation.duration_seconds",
+                 "700 exceeds 600"},
+        RuleCase{"NaNDuration", AnimationJson(R"({"duration_seconds": "NaN"})"), "animation.duration_seconds",
+                 "NaN is not a finite number"},
+        RuleCase{"FastFrames", AnimationJson(R"({"frames_per_second": 500})"), "animation.frames_per_second",
+                 "500 exceeds 120"},
+        RuleCase{"AbsurdFrameCount", AnimationJson(R"({"duration_seconds": 600, "frames_per_second": 120})"),
+                 "animation.frames_per_second", "120 frames a second for 600 s make 72000 frames; at most 3000"},
+        RuleCase{"TooManyPoints", AnimationJson(R"({"cloth": {"loops": 512, "courses": 512}, "duration_seconds": 20})"),
+                 "animation.duration_seconds", "501 frames of 512 × 512 loops make 131334144 points; at most 67108864"},
+        RuleCase{"FastThrow", AnimationJson(R"({"initial_velocity": {"x": 2000}})"), "animation.initial_velocity.x",
+                 "2000 exceeds 1000"},
+        RuleCase{"PinPastTheCloth", AnimationJson(R"({"pins": [{"course": 6}]})"), "animation.pins[0].course",
+                 "6 exceeds 5 (cloth.courses − 1)"},
+        RuleCase{"PinLoopPastTheCloth", AnimationJson(R"({"pins": [{"loop": {"loop": 4, "course": 0}}]})"),
+                 "animation.pins[0].loop.loop", "4 exceeds 3 (cloth.loops − 1)"},
+        RuleCase{"PinNothing", AnimationJson(R"({"pins": [{}]})"), "animation.pins[0]",
+                 "names no loop, course or wale"},
+        RuleCase{"PinTwice", AnimationJson(R"({"pins": [{"course": 0}, {"loop": {"loop": 1}}]})"), "animation.pins[1]",
+                 "pins loop (1, 0), which pins[0] pins already"},
+        RuleCase{"ReleaseAfterTheEnd", AnimationJson(R"({"pins": [{"wale": 0, "release_seconds": 2}]})"),
+                 "animation.pins[0].release_seconds", "2 exceeds 1 (duration_seconds)"},
+        RuleCase{"MotionBackwards",
+                 AnimationJson(R"({"pins": [{"wale": 0, "motion": {"start_seconds": 0.5, "end_seconds": 0.25}}]})"),
+                 "animation.pins[0].motion.end_seconds", "0.25 is below 0.5 (start_seconds)"},
+        RuleCase{"NoShape", AnimationJson(R"({"colliders": [{}]})"), "animation.colliders[0]",
+                 "names no plane, sphere or box"},
+        RuleCase{"FlatSphere", AnimationJson(R"({"colliders": [{"sphere": {}}]})"), "animation.colliders[0].sphere.radius",
+                 "0 is not above 0"},
+        RuleCase{"PlaneWithoutNormal", AnimationJson(R"({"colliders": [{"plane": {}}]})"),
+                 "animation.colliders[0].plane.normal", "is zero"},
+        RuleCase{"HugeBox", AnimationJson(R"({"colliders": [{"box": {"half_extent": {"x": 1, "y": 1, "z": 20000}}}]})"),
+                 "animation.colliders[0].box.half_extent.z", "20000 exceeds 10000"}),
+    CaseName);
+
+TEST(Validate, DefaultAnimationIsValid) {
+  EXPECT_TRUE(ValidateJson<v1::AnimationSpec>(kAnimationBase, "animation").empty());
+}
+
 TEST(Validate, EmptyKnitAndWovenFabricsAreValid) {
   EXPECT_EQ(FormatIssues(ValidateJson<v1::FabricSpec>(R"({"knit": {}})", "fabric")), "");
   EXPECT_EQ(FormatIssues(ValidateJson<v1::FabricSpec>(R"({"woven": {}})", "fabric")), "");

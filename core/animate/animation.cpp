@@ -1,0 +1,88 @@
+#include "core/animate/animation.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/spec/defaults.h"
+#include "core/spec/validate.h"
+
+namespace loom::animate {
+namespace {
+
+glm::vec3 ToVec3(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+Motion ToMotion(const v1::LinearMotion& motion) {
+  return {ToVec3(motion.velocity()), motion.start_seconds(), motion.end_seconds()};
+}
+
+Collider ToCollider(const v1::ColliderSpec& spec) {
+  Collider collider;
+  switch (spec.shape_case()) {
+    case v1::ColliderSpec::kPlane:
+      collider = Collider::Plane(ToVec3(spec.plane().point()), ToVec3(spec.plane().normal()));
+      break;
+    case v1::ColliderSpec::kSphere:
+      collider = Collider::Sphere(ToVec3(spec.sphere().centre()), spec.sphere().radius());
+      break;
+    default:
+      collider = Collider::Box(ToVec3(spec.box().centre()), ToVec3(spec.box().half_extent()));
+      break;
+  }
+  return collider.Moving(ToMotion(spec.motion()));
+}
+
+}  // namespace
+
+ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<void(size_t, size_t)>& progress,
+                            unsigned threads) {
+  ThrowIfAny(Validate(raw));
+  const v1::AnimationSpec spec = WithDefaults(raw);
+  const v1::KnitClothSpec& cloth_spec = spec.cloth();
+  ClothAnimation animation;
+  animation.cloth = FlatKnitCloth(static_cast<int>(cloth_spec.loops()), static_cast<int>(cloth_spec.courses()),
+                                  cloth_spec.course_spacing(), cloth_spec.wale_spacing(), ToVec3(cloth_spec.origin()),
+                                  ToVec3(cloth_spec.course_axis()), ToVec3(cloth_spec.wale_axis()));
+  animation.frames_per_second = spec.frames_per_second();
+
+  std::vector<Collider> colliders;
+  for (const v1::ColliderSpec& collider : spec.colliders()) colliders.push_back(ToCollider(collider));
+  KnitMechanics mechanics;
+  mechanics.threads = threads;
+  KnitSimulation simulation(animation.cloth, mechanics, std::move(colliders));
+  const KnitCloth& cloth = animation.cloth;
+  for (size_t p = 0; p < cloth.size(); ++p) simulation.SetVelocity(p, ToVec3(spec.initial_velocity()));
+  for (const v1::PinSpec& pin : spec.pins()) {
+    const Motion motion = ToMotion(pin.motion());
+    const double release = pin.release_seconds() > 0 ? pin.release_seconds() : std::numeric_limits<double>::infinity();
+    const auto hold = [&](int i, int j) { simulation.Pin(cloth.Index(i, j), motion, release); };
+    switch (pin.which_case()) {
+      case v1::PinSpec::kLoop:
+        hold(static_cast<int>(pin.loop().loop()), static_cast<int>(pin.loop().course()));
+        break;
+      case v1::PinSpec::kCourse:
+        for (int i = 0; i < cloth.across; ++i) hold(i, static_cast<int>(pin.course()));
+        break;
+      default:
+        for (int j = 0; j < cloth.along; ++j) hold(static_cast<int>(pin.wale()), j);
+        break;
+    }
+  }
+
+  const size_t steps = AnimationFrames(spec);
+  const double frame_time = 1.0 / spec.frames_per_second();
+  animation.frames.reserve(steps + 1);
+  animation.frames.push_back(simulation.positions());
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t frame = 1; frame <= steps; ++frame) {
+    simulation.Advance(static_cast<float>(frame * frame_time - simulation.time()), static_cast<float>(frame_time));
+    animation.frames.push_back(simulation.positions());
+    if (progress) progress(frame, steps);
+  }
+  animation.simulation_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  animation.counts = simulation.counts();
+  animation.min_collider_distance = simulation.min_collider_distance();
+  animation.min_self_distance = simulation.min_self_distance();
+  return animation;
+}
+
+}  // namespace loom::animate

@@ -1,0 +1,34 @@
+#pragma once
+// An AnimationSpec run: the knit cloth, pins and colliders it asks for, the knit
+// simulation stepped through its duration, and the cloth's points recorded at
+// every frame. This is what the `animate` job and `loom-lab animate` run; the
+// sequence writers (core/animate/cloth_sequence_io.h) turn the result into files.
+
+#include <functional>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "core/animate/knit_cloth.h"
+#include "core/animate/knit_simulation.h"
+#include "loom/v1/animation.pb.h"
+
+namespace loom::animate {
+
+struct ClothAnimation {
+  KnitCloth cloth;  // the topology; its positions are frame 0's
+  float frames_per_second = 25.0f;
+  // Frame k is the cloth at k / frames_per_second seconds, k = 0 … ⌈duration × rate⌉.
+  std::vector<std::vector<glm::vec3>> frames;
+  SimulationCounts counts;
+  float min_collider_distance = 0.0f;  // over every step (+∞ without colliders)
+  float min_self_distance = 0.0f;      // over every step (+∞ while the cloth never met itself)
+  double simulation_seconds = 0.0;     // wall-clock time of the stepping
+};
+
+// The spec is validated first (Error(kInvalidArgument) naming each bad field).
+// progress(done, total) after each frame; `threads` for the contact search (0:
+// every core).
+ClothAnimation RunAnimation(const v1::AnimationSpec& spec,
+                            const std::function<void(size_t done, size_t total)>& progress = {}, unsigned threads = 0);
+
+}  // namespace loom::animate

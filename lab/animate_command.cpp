@@ -1,0 +1,70 @@
+// loom-lab animate: an animation spec run by the knit model (docs/animation.md),
+// written as a glTF sequence and OBJ frames, with its figures.
+
+#include <cstdio>
+#include <limits>
+
+#include "core/animate/animation.h"
+#include "core/animate/cloth_sequence_io.h"
+#include "core/spec/spec_json.h"
+#include "core/util/progress_bar.h"
+#include "lab/lab_command.h"
+
+namespace loom::lab {
+namespace {
+
+// JSON has no infinity: a distance never measured is null.
+nlohmann::json Distance(float d) { return std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
+  struct Options {
+    std::string spec, gltf, obj_dir;
+    unsigned threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand("animate", "Simulate an animation spec's knit cloth and write its frames");
+  command->add_option("spec", options->spec, "Animation spec file (JSON)")->required();
+  command->add_option("--gltf", options->gltf, "Write the sequence as glTF 2.0 (.glb binary, .gltf JSON)");
+  command->add_option("--obj-dir", options->obj_dir, "Write frame_NNNNN.obj per frame into this directory");
+  command->add_option("--threads", options->threads, "Threads of the contact search (0: every core)");
+  return {command, [&flags, options] {
+            const auto spec = LoadSpecFile<v1::AnimationSpec>(options->spec, "animation");
+            animate::ClothAnimation animation;
+            {
+              ProgressBar bar("animate");
+              animation = animate::RunAnimation(
+                  spec, [&](size_t done, size_t total) { bar.Update(double(done) / total, "frames"); },
+                  options->threads);
+            }
+            if (!options->gltf.empty()) animate::WriteGltfSequence(animation, options->gltf);
+            if (!options->obj_dir.empty()) animate::WriteObjSequence(animation, options->obj_dir);
+            const auto& counts = animation.counts;
+            const size_t triangles = 2 * size_t(animation.cloth.across - 1) * (animation.cloth.along - 1);
+            if (flags.json) {
+              PrintJson({{"loops", animation.cloth.size()},
+                         {"triangles", triangles},
+                         {"frames", animation.frames.size() - 1},
+                         {"simulated_seconds", (animation.frames.size() - 1) / animation.frames_per_second},
+                         {"simulation_seconds", animation.simulation_seconds},
+                         {"steps", counts.steps},
+                         {"halvings", counts.halvings},
+                         {"penetrations", counts.penetrations},
+                         {"contact_searches", counts.contact_searches},
+                         {"min_collider_distance", Distance(animation.min_collider_distance)},
+                         {"min_self_distance", Distance(animation.min_self_distance)}});
+            } else {
+              std::printf(
+                  "%zu loops (%zu triangles), %zu frames at %g fps: simulated in %.2f s, %ld steps (%ld halved), "
+                  "%ld penetrations, %ld contact searches; least distance to a collider %.4f, to itself %.4f "
+                  "(loops)\n",
+                  animation.cloth.size(), triangles, animation.frames.size() - 1, animation.frames_per_second,
+                  animation.simulation_seconds, counts.steps, counts.halvings, counts.penetrations,
+                  counts.contact_searches, animation.min_collider_distance, animation.min_self_distance);
+            }
+            return 0;
+          }};
+}
+
+}  // namespace loom::lab

@@ -1,0 +1,117 @@
+#include "core/animate/animation.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/animate/cloth_sequence_io.h"
+#include "core/scene/obj_loader.h"
+#include "core/spec/spec_json.h"
+#include "core/util/error.h"
+#include "core/util/file_io.h"
+
+namespace loom::animate {
+namespace {
+
+// An empty directory of this test's own.
+std::filesystem::path ScratchDir(const std::string& name) {
+  const auto dir =
+      std::filesystem::path(::testing::TempDir()) / ("loom_animation_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// A 4 × 6 cloth hung by its top course, a sphere passing beneath it, 0.4 s at
+// 25 frames a second.
+v1::AnimationSpec Hanging() {
+  return ParseSpecJson<v1::AnimationSpec>(R"({
+    "cloth": {"loops": 4, "courses": 6, "wale_axis": {"z": -1}},
+    "pins": [{"course": 0}],
+    "colliders": [{"sphere": {"centre": {"x": 1.5, "y": -3, "z": -3}, "radius": 1},
+                   "motion": {"velocity": {"y": 5}, "end_seconds": 0.4}}],
+    "duration_seconds": 0.4
+  })",
+                                          "animation");
+}
+
+TEST(RunAnimation, RecordsEveryFrameOfTheSpec) {
+  size_t reported = 0;
+  const ClothAnimation animation = RunAnimation(Hanging(), [&](size_t done, size_t total) {
+    EXPECT_EQ(total, 10u);
+    reported = done;
+  });
+  EXPECT_EQ(reported, 10u);
+  ASSERT_EQ(animation.frames.size(), 11u);
+  EXPECT_EQ(animation.frames_per_second, 25.0f);
+  // The top course holds; the rest falls, away from the start.
+  EXPECT_EQ(animation.frames.back()[2], animation.frames[0][2]);
+  EXPECT_LT(animation.frames.back()[20].z, animation.frames[0][20].z - 0.1f);
+  EXPECT_GT(animation.counts.steps, 10);
+  EXPECT_GE(animation.min_collider_distance, 0.0f);
+}
+
+TEST(RunAnimation, RefusesABadSpecNamingTheField) {
+  v1::AnimationSpec spec = Hanging();
+  spec.mutable_cloth()->set_loops(0);
+  try {
+    RunAnimation(spec);
+    FAIL() << "a cloth of no loops ran";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(error.what()).find("animation.cloth.loops: 0 is below 2"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ClothSequence, GltfRoundTripKeepsEveryFrame) {
+  const ClothAnimation animation = RunAnimation(Hanging());
+  const auto dir = ScratchDir("gltf");
+  const auto path = dir / "cloth.glb";
+  WriteGltfSequence(animation, path);
+  const MeshSequence read = ReadGltfSequence(path);
+  ASSERT_EQ(read.frames.size(), animation.frames.size());
+  ASSERT_EQ(read.times.size(), animation.frames.size());
+  EXPECT_FLOAT_EQ(read.times[5], 0.2f);
+  EXPECT_EQ(read.mesh.indices.size(), 3 * 2 * 3 * 5u);
+  EXPECT_EQ(read.mesh.uvs.size(), 24u);
+  for (size_t k = 0; k < read.frames.size(); ++k) {
+    for (size_t v = 0; v < 24; ++v) {
+      // Frame k is frame 0 plus target k − 1's offset: exact to float rounding.
+      EXPECT_NEAR(glm::distance(read.frames[k][v], animation.frames[k][v]), 0.0f, 1e-5f) << k << " " << v;
+    }
+  }
+  // A .gltf (JSON, buffer embedded) reads back alike.
+  WriteGltfSequence(animation, dir / "cloth.gltf");
+  EXPECT_EQ(ReadGltfSequence(dir / "cloth.gltf").frames.back(), read.frames.back());
+}
+
+TEST(ClothSequence, RefusesBrokenGltfNamingTheFile) {
+  const auto path = ScratchDir("broken") / "broken.glb";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << std::string("glTF\x02\0\0\0 not really", 18);
+  }
+  try {
+    ReadGltfSequence(path);
+    FAIL() << "a broken file was read";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(error.what()).find("broken.glb"), std::string::npos) << error.what();
+  }
+}
+
+TEST(ClothSequence, ObjFramesHoldTheClothAtEachFrame) {
+  const ClothAnimation animation = RunAnimation(Hanging());
+  const auto dir = ScratchDir("obj");
+  WriteObjSequence(animation, dir / "frames");
+  const TriangleMesh last = ParseObj(ReadFile(dir / "frames" / "frame_00010.obj"), "frame 10");
+  ASSERT_EQ(last.positions.size(), 24u);
+  EXPECT_EQ(last.triangle_count(), 30u);
+  EXPECT_NEAR(glm::distance(last.positions[20], animation.frames[10][20]), 0.0f, 1e-5f);
+  EXPECT_FALSE(std::filesystem::exists(dir / "frames" / "frame_00011.obj"));
+}
+
+}  // namespace
+}  // namespace loom::animate
