@@ -11,8 +11,12 @@ namespace {
 
 glm::vec3 ToVec3(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-Motion ToMotion(const v1::LinearMotion& motion) {
-  return {ToVec3(motion.velocity()), motion.start_seconds(), motion.end_seconds()};
+Motion ToMotion(const google::protobuf::RepeatedPtrField<v1::LinearMotion>& legs) {
+  Motion motion;
+  for (const v1::LinearMotion& leg : legs) {
+    motion.legs.push_back({ToVec3(leg.velocity()), leg.start_seconds(), leg.end_seconds()});
+  }
+  return motion;
 }
 
 Collider ToCollider(const v1::ColliderSpec& spec) {

@@ -36,7 +36,7 @@ Collider Collider::Box(glm::vec3 centre, glm::vec3 half_extent) {
 }
 
 Collider Collider::Moving(const Motion& motion) const {
-  if (!(motion.end >= motion.start)) throw Error(ErrorCode::kInvalidArgument, "collider motion: end before start");
+  if (!motion.valid()) throw Error(ErrorCode::kInvalidArgument, "collider motion: end before start");
   Collider c = *this;
   c.motion_ = motion;
   return c;

@@ -8,9 +8,19 @@
 
 #include "core/animate/closest_point.h"
 #include "core/util/error.h"
+#include "core/util/parallel_for.h"
 
 namespace loom::animate {
 namespace {
+
+// A stable step shorter than this means the state has blown up (or is about
+// to): the simulation stops with an error rather than crawl.
+constexpr double kShortestStep = 1e-7;
+
+// Work items of the parallel loops: this many springs, angles or points each.
+constexpr size_t kChunk = 2048;
+// Cloths of fewer points step on one thread (starting threads would cost more).
+constexpr size_t kParallelPoints = 4096;
 
 // The field is evaluated no closer than this fraction of τ to a collider or a
 // triangle of the cloth: a point that came closer (a step past its last
@@ -29,6 +39,7 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
       pinned_(cloth.size(), 0),
       x_(cloth.positions),
       v_(cloth.size(), glm::vec3(0.0f)),
+      threads_(cloth.size() < kParallelPoints ? 1 : ResolveThreadCount(mechanics.threads)),
       min_distance_(std::numeric_limits<float>::infinity()),
       min_self_distance_(std::numeric_limits<float>::infinity()) {
   if (cloth.size() != static_cast<size_t>(cloth.across) * cloth.along || cloth.across < 2 || cloth.along < 2) {
@@ -58,6 +69,24 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
       }
     }
   }
+  // Which contribution slots each point sums (CSR).
+  contributions_.resize(2 * springs_.size() + 3 * (bends_.size() + shears_.size()));
+  std::vector<std::vector<uint32_t>> slots(cloth.size());
+  for (size_t k = 0; k < springs_.size(); ++k) {
+    slots[springs_[k].a].push_back(static_cast<uint32_t>(2 * k));
+    slots[springs_[k].b].push_back(static_cast<uint32_t>(2 * k + 1));
+  }
+  size_t slot = 2 * springs_.size();
+  for (const auto* triples : {&bends_, &shears_}) {
+    for (const Triple& t : *triples) {
+      for (const size_t p : {t.a, t.b, t.c}) slots[p].push_back(static_cast<uint32_t>(slot++));
+    }
+  }
+  incidence_offsets_.assign(1, 0);
+  for (const auto& list : slots) {
+    incidence_.insert(incidence_.end(), list.begin(), list.end());
+    incidence_offsets_.push_back(static_cast<uint32_t>(incidence_.size()));
+  }
   min_distance_ = ColliderDistance(x_, time_);
   if (mechanics_.self_collision) {
     if (!(mechanics_.cone_degrees > 0.0f && mechanics_.cone_degrees <= 90.0f)) {
@@ -79,8 +108,7 @@ SimulationCounts KnitSimulation::counts() const {
 void KnitSimulation::Pin(size_t index, const Motion& motion, double release) {
   if (index >= pinned_.size())
     throw Error(ErrorCode::kInvalidArgument, "knit simulation: no point " + std::to_string(index));
-  if (!(motion.end >= motion.start))
-    throw Error(ErrorCode::kInvalidArgument, "knit simulation: pin motion ends before it starts");
+  if (!motion.valid()) throw Error(ErrorCode::kInvalidArgument, "knit simulation: pin motion ends before it starts");
   if (pinned_[index])
     throw Error(ErrorCode::kInvalidArgument, "knit simulation: point " + std::to_string(index) + " pinned twice");
   pinned_[index] = 1;
@@ -108,52 +136,68 @@ double KnitSimulation::KineticEnergy() const {
 }
 
 void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
-                                   std::vector<glm::vec3>& a) const {
-  a.assign(x.size(), mechanics_.gravity);
-  for (size_t p = 0; p < x.size(); ++p) a[p] -= mechanics_.air_viscosity * v[p];
-  for (const Spring& s : springs_) {
-    const glm::vec3 d = x[s.b] - x[s.a];
-    const float length = glm::length(d);
-    if (length <= 0.0f) continue;
-    const glm::vec3 f = SpringForce(*s.law, s.rest, length) * d / length;
-    a[s.a] += f;
-    a[s.b] -= f;
-  }
-  for (const Triple& t : bends_) {
-    const auto f = BendForces(x[t.a], x[t.b], x[t.c], t.constant, t.arm);
-    a[t.a] += f[0], a[t.b] += f[1], a[t.c] += f[2];
-  }
-  for (const Triple& t : shears_) {
-    const auto f = ShearForces(x[t.a], x[t.b], x[t.c], t.rest_angle, t.constant, t.arm);
-    a[t.a] += f[0], a[t.b] += f[1], a[t.c] += f[2];
-  }
+                                   std::vector<glm::vec3>& a) {
+  // Each spring's and angle's forces into its slots of contributions_, then each
+  // point's sum of its slots: both in parallel, and the sums in a fixed order
+  // whatever the thread count.
+  const size_t springs = springs_.size(), bends = bends_.size(), terms = springs + bends + shears_.size();
+  const auto chunks = [](size_t count) { return (count + kChunk - 1) / kChunk; };
+  ParallelFor(chunks(terms), threads_, [&](size_t chunk, unsigned) {
+    for (size_t k = chunk * kChunk, end = std::min(terms, k + kChunk); k < end; ++k) {
+      if (k < springs) {
+        const Spring& s = springs_[k];
+        const glm::vec3 d = x[s.b] - x[s.a];
+        const float length = glm::length(d);
+        const glm::vec3 f = length > 0.0f ? SpringForce(*s.law, s.rest, length) / length * d : glm::vec3(0.0f);
+        contributions_[2 * k] = f, contributions_[2 * k + 1] = -f;
+      } else {
+        const bool bend = k < springs + bends;
+        const Triple& t = bend ? bends_[k - springs] : shears_[k - springs - bends];
+        const auto f = bend ? BendForces(x[t.a], x[t.b], x[t.c], t.constant, t.arm)
+                            : ShearForces(x[t.a], x[t.b], x[t.c], t.rest_angle, t.constant, t.arm);
+        const size_t slot = 2 * springs + 3 * (k - springs);
+        contributions_[slot] = f[0], contributions_[slot + 1] = f[1], contributions_[slot + 2] = f[2];
+      }
+    }
+  });
+  a.resize(x.size());
+  ParallelFor(chunks(x.size()), threads_, [&](size_t chunk, unsigned) {
+    for (size_t p = chunk * kChunk, end = std::min(x.size(), p + kChunk); p < end; ++p) {
+      glm::vec3 sum = mechanics_.gravity - mechanics_.air_viscosity * v[p];
+      for (uint32_t i = incidence_offsets_[p]; i < incidence_offsets_[p + 1]; ++i) sum += contributions_[incidence_[i]];
+      a[p] = sum;
+    }
+  });
   if (contacts_) AddSelfContact(x, v, dt, a);
   // The colliders' fields push along their normals; friction opposes what else
   // would move the point along the surface (eq. 3 and the static threshold
   // K_s·|F|).
-  for (size_t p = 0; p < x.size(); ++p) {
-    for (const Collider& collider : colliders_) {
-      const Contact contact = collider.Nearest(x[p], t);
-      if (contact.distance >= field_.half_thickness()) continue;
-      const float normal_force = field_(std::max(contact.distance, kNearestField * field_.core()));
-      const glm::vec3 n = contact.normal;
-      const glm::vec3 tangential_force = a[p] - glm::dot(a[p], n) * n;
-      const glm::vec3 relative = v[p] - collider.Velocity(t);
-      const glm::vec3 slip = relative - glm::dot(relative, n) * n;
-      const float slip_speed = glm::length(slip);
-      // The fibre layer damps the approach and the parting, but never pulls.
-      a[p] += std::max(normal_force - mechanics_.contact_damping * glm::dot(relative, n), 0.0f) * n;
-      if (slip_speed <= mechanics_.dynamic_friction * normal_force * dt &&
-          glm::length(tangential_force) <= mechanics_.static_friction * normal_force) {
-        a[p] -= tangential_force + slip / dt;  // held
-      } else if (slip_speed > 0.0f) {
-        a[p] -= std::min(mechanics_.dynamic_friction * normal_force, slip_speed / dt) * slip / slip_speed;
+  ParallelFor(chunks(x.size()), threads_, [&](size_t chunk, unsigned) {
+    for (size_t p = chunk * kChunk, end = std::min(x.size(), p + kChunk); p < end; ++p) {
+      if (pinned_[p]) {
+        a[p] = glm::vec3(0.0f);
+        continue;
+      }
+      for (const Collider& collider : colliders_) {
+        const Contact contact = collider.Nearest(x[p], t);
+        if (contact.distance >= field_.half_thickness()) continue;
+        const float normal_force = field_(std::max(contact.distance, kNearestField * field_.core()));
+        const glm::vec3 n = contact.normal;
+        const glm::vec3 tangential_force = a[p] - glm::dot(a[p], n) * n;
+        const glm::vec3 relative = v[p] - collider.Velocity(t);
+        const glm::vec3 slip = relative - glm::dot(relative, n) * n;
+        const float slip_speed = glm::length(slip);
+        // The fibre layer damps the approach and the parting, but never pulls.
+        a[p] += std::max(normal_force - mechanics_.contact_damping * glm::dot(relative, n), 0.0f) * n;
+        if (slip_speed <= mechanics_.dynamic_friction * normal_force * dt &&
+            glm::length(tangential_force) <= mechanics_.static_friction * normal_force) {
+          a[p] -= tangential_force + slip / dt;  // held
+        } else if (slip_speed > 0.0f) {
+          a[p] -= std::min(mechanics_.dynamic_friction * normal_force, slip_speed / dt) * slip / slip_speed;
+        }
       }
     }
-  }
-  for (size_t p = 0; p < x.size(); ++p) {
-    if (pinned_[p]) a[p] = glm::vec3(0.0f);
-  }
+  });
 }
 
 void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
@@ -400,6 +444,12 @@ void KnitSimulation::Advance(float duration, float max_step) {
       if (pin.release > time_) until = std::min(until, pin.release);
     }
     float dt = std::min({max_step, StableStep(), static_cast<float>(until - time_)});
+    if (!(dt >= kShortestStep) && until - time_ >= kShortestStep) {
+      throw Error(ErrorCode::kInvalidArgument,
+                  "knit simulation: at " + std::to_string(time_) +
+                      " s the stable step fell below 0.1 µs (the cloth was driven harder than the model follows: "
+                      "a collider or pin too fast, or the cloth crushed)");
+    }
     // A point outside a collider now must stay outside, and on its side of the
     // cloth's triangles; halve the step until it does.
     for (int halving = 0;; ++halving) {

@@ -11,6 +11,7 @@
 // Colliders and pinned points may move along prescribed motions. Not yet: mesh
 // colliders (docs/animation.md "Next").
 
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
 #include <memory>
@@ -46,7 +47,7 @@ struct KnitMechanics {
   glm::vec3 gravity{0.0f, 0.0f, -9.81f};
   // A step is at most courant / ω_max, ω_max² the largest stiffness a point
   // feels…
-  float courant = 0.3f;
+  float courant = 0.5f;
   // …and carries no point further than this fraction of the field's fibre layer
   // (T − τ).
   float travel = 0.5f;
@@ -67,7 +68,8 @@ struct KnitMechanics {
   // The smoothing filter: after each step a point's displacement and velocity
   // move towards the mean of its grid neighbours' by 1 − e^{−rate·dt}.
   float smoothing_rate = 2.0f;
-  // Threads of the contact search (0: every core).
+  // Threads of the force sums and the contact search (0: every core); the
+  // result does not depend on them.
   unsigned threads = 0;
 };
 
@@ -118,7 +120,7 @@ class KnitSimulation {
   // pairs must have been updated for x.
   // The colliders are where they are at time t.
   void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
-                     std::vector<glm::vec3>& a) const;
+                     std::vector<glm::vec3>& a);
   // The self-contact forces and dynamic self-friction, added to a.
   void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
                       std::vector<glm::vec3>& a) const;
@@ -170,6 +172,11 @@ class KnitSimulation {
   std::vector<char> pinned_;  // per point
   std::vector<Pinned> pins_;  // those not yet released
   std::vector<glm::vec3> x_, v_;
+  unsigned threads_;
+  // Each spring's two forces and each angle's three, and the slots each point
+  // sums: point p's are incidence_[incidence_offsets_[p] … incidence_offsets_[p + 1]).
+  std::vector<glm::vec3> contributions_;
+  std::vector<uint32_t> incidence_offsets_, incidence_;
   // Scratch of a step.
   std::vector<glm::vec3> a1_, a2_, x_mid_, v_mid_, mean_;
   double time_ = 0.0;

@@ -179,6 +179,8 @@ inline constexpr float kMaxColliderSize = 10000.0f;
 inline constexpr float kMaxAnimationSpeed = 1000.0f;
 inline constexpr int kMaxPins = 4096;
 inline constexpr int kMaxColliders = 64;
+// Legs of a pin's or a collider's motion.
+inline constexpr int kMaxMotionLegs = 64;
 // Simulated seconds and frames. The glTF sequence holds a morph target a frame
 // and, a frame, a weight for every target (frames² floats: 36 MB at the cap).
 inline constexpr float kMaxAnimationSeconds = 600.0f;

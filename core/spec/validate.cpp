@@ -516,11 +516,16 @@ void CheckCoordinates(const IssueCollector& at, std::string_view field, const v1
   for (const auto& [component, value] : Components(v)) at.Field(field).Range(component, value, -bound, bound);
 }
 
-void CheckMotion(const v1::LinearMotion& motion, float duration, const IssueCollector& at) {
-  CheckCoordinates(at, "velocity", motion.velocity(), kMaxAnimationSpeed);
-  at.Min("start_seconds", motion.start_seconds(), 0.0f);
-  at.Min("end_seconds", motion.end_seconds(), motion.start_seconds(), "start_seconds");
-  at.Max("end_seconds", motion.end_seconds(), duration, "duration_seconds");
+void CheckMotion(const google::protobuf::RepeatedPtrField<v1::LinearMotion>& legs, float duration,
+                 const IssueCollector& at) {
+  at.Max("motion", legs.size(), kMaxMotionLegs);
+  for (int i = 0; i < legs.size(); ++i) {
+    const IssueCollector leg = at.Element("motion", i);
+    CheckCoordinates(leg, "velocity", legs[i].velocity(), kMaxAnimationSpeed);
+    leg.Min("start_seconds", legs[i].start_seconds(), 0.0f);
+    leg.Min("end_seconds", legs[i].end_seconds(), legs[i].start_seconds(), "start_seconds");
+    leg.Max("end_seconds", legs[i].end_seconds(), duration, "duration_seconds");
+  }
 }
 
 void CheckCloth(const v1::KnitClothSpec& cloth, const IssueCollector& at) {
@@ -567,7 +572,7 @@ void CheckPins(const v1::AnimationSpec& animation, const IssueCollector& at) {
         break;
       default: element.Report("names no loop, course or wale");
     }
-    CheckMotion(pin.motion(), animation.duration_seconds(), element.Field("motion"));
+    CheckMotion(pin.motion(), animation.duration_seconds(), element);
     element.Min("release_seconds", pin.release_seconds(), 0.0f);
     element.Max("release_seconds", pin.release_seconds(), animation.duration_seconds(), "duration_seconds");
     for (const auto& [loop, course] : held) {
@@ -602,7 +607,7 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
       break;
     default: at.Report("names no plane, sphere or box");
   }
-  CheckMotion(collider.motion(), duration, at.Field("motion"));
+  CheckMotion(collider.motion(), duration, at);
 }
 
 void CheckAnimation(const v1::AnimationSpec& animation, const IssueCollector& at) {

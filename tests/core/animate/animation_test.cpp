@@ -31,7 +31,7 @@ v1::AnimationSpec Hanging() {
     "cloth": {"loops": 4, "courses": 6, "wale_axis": {"z": -1}},
     "pins": [{"course": 0}],
     "colliders": [{"sphere": {"centre": {"x": 1.5, "y": -3, "z": -3}, "radius": 1},
-                   "motion": {"velocity": {"y": 5}, "end_seconds": 0.4}}],
+                   "motion": [{"velocity": {"y": 5}, "end_seconds": 0.4}]}],
     "duration_seconds": 0.4
   })",
                                           "animation");
