@@ -132,9 +132,9 @@ std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int index, const
   }
 }
 
-}  // namespace
-
-TriangleMesh ClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& positions) {
+// The cloth's positions, uvs and triangles, without normals (every triangle
+// kept, degenerate or not).
+TriangleMesh UnpreparedClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& positions) {
   TriangleMesh mesh;
   mesh.positions = positions;
   mesh.uvs.reserve(positions.size());
@@ -144,6 +144,13 @@ TriangleMesh ClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& pos
     }
   }
   for (const glm::uvec3& t : cloth.Triangles()) mesh.indices.insert(mesh.indices.end(), {t.x, t.y, t.z});
+  return mesh;
+}
+
+}  // namespace
+
+TriangleMesh ClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& positions) {
+  TriangleMesh mesh = UnpreparedClothMesh(cloth, positions);
   PrepareMesh(mesh, "animated cloth");
   return mesh;
 }
@@ -168,11 +175,9 @@ void WriteGltfSequence(const ClothAnimation& animation, const std::filesystem::p
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   primitive.attributes["POSITION"] = builder.Floats(&base[0].x, vertices, TINYGLTF_TYPE_VEC3, 3, true);
-  const TriangleMesh mesh = ClothMesh(animation.cloth, base);
+  const TriangleMesh mesh = UnpreparedClothMesh(animation.cloth, base);
   primitive.attributes["TEXCOORD_0"] = builder.Floats(&mesh.uvs[0].x, vertices, TINYGLTF_TYPE_VEC2, 2, false);
-  std::vector<uint32_t> indices;
-  for (const glm::uvec3& t : animation.cloth.Triangles()) indices.insert(indices.end(), {t.x, t.y, t.z});
-  primitive.indices = builder.Indices(indices);
+  primitive.indices = builder.Indices(mesh.indices);
   // Target k − 1 moves frame 0 to frame k.
   const size_t targets = animation.frames.size() - 1;
   std::vector<glm::vec3> delta(vertices);
