@@ -48,8 +48,7 @@ v1::Job JobClient::Get(const std::string& job_id) {
 }
 
 v1::ListJobsResponse JobClient::List(const v1::ListJobsRequest& request) {
-  return Call<v1::ListJobsRequest, v1::ListJobsResponse>(*stub_, &v1::LoomService::Stub::ListJobs, request,
-                                                         "ListJobs");
+  return Call<v1::ListJobsRequest, v1::ListJobsResponse>(*stub_, &v1::LoomService::Stub::ListJobs, request, "ListJobs");
 }
 
 v1::Job JobClient::Cancel(const std::string& job_id) {
@@ -83,8 +82,8 @@ v1::DeleteJobsResponse JobClient::Delete(const std::vector<std::string>& job_ids
 std::vector<std::string> JobClient::Log(const std::string& job_id) {
   v1::GetJobLogRequest request;
   request.set_job_id(job_id);
-  const auto response = Call<v1::GetJobLogRequest, v1::GetJobLogResponse>(
-      *stub_, &v1::LoomService::Stub::GetJobLog, request, "GetJobLog");
+  const auto response = Call<v1::GetJobLogRequest, v1::GetJobLogResponse>(*stub_, &v1::LoomService::Stub::GetJobLog,
+                                                                          request, "GetJobLog");
   return {response.lines().begin(), response.lines().end()};
 }
 
@@ -146,13 +145,15 @@ v1::CachedFabric JobClient::DownloadFabric(const std::string& key, const std::fi
 }
 
 int JobClient::UploadMeshes(v1::SceneSpec& scene, const std::filesystem::path& scene_directory) {
-  std::map<std::string, std::string> bytes_by_hash;
+  std::map<std::string, std::string> bytes_by_hash, name_by_hash;
   for (v1::SceneObject& object : *scene.mutable_objects()) {
     v1::MeshRef& mesh = *object.mutable_mesh();
-    if (mesh.source_case() != v1::MeshRef::kObjPath) continue;
-    std::string bytes = ReadFile(scene_directory / mesh.obj_path());
+    const bool obj = mesh.source_case() == v1::MeshRef::kObjPath;
+    if (!obj && mesh.source_case() != v1::MeshRef::kGltfPath) continue;
+    std::string bytes = ReadFile(scene_directory / (obj ? mesh.obj_path() : mesh.gltf_path()));
     std::string hash = Sha256Hex(bytes);
-    mesh.set_artifact(hash);  // replaces obj_path (one source)
+    name_by_hash.emplace(hash, obj ? "mesh.obj" : bytes.starts_with("glTF") ? "mesh.glb" : "mesh.gltf");
+    mesh.set_artifact(hash);  // replaces the path (one source); the server tells the format by the bytes
     bytes_by_hash.emplace(std::move(hash), std::move(bytes));
   }
   if (bytes_by_hash.empty()) return 0;
@@ -163,7 +164,7 @@ int JobClient::UploadMeshes(v1::SceneSpec& scene, const std::filesystem::path& s
   for (const std::string& hash : missing.missing()) {
     const std::string& bytes = bytes_by_hash.at(hash);
     v1::UploadArtifactRequest::Header header;
-    *header.mutable_artifact() = rpc::MakeArtifactRef("mesh.obj", bytes);
+    *header.mutable_artifact() = rpc::MakeArtifactRef(name_by_hash.at(hash), bytes);
     rpc::UploadArtifact(*stub_, header, bytes);
   }
   return missing.missing_size();

@@ -40,7 +40,7 @@ class JobClient {
   // readable by core/fit/fabric_asset.h). Returns the entry.
   v1::CachedFabric DownloadFabric(const std::string& key, const std::filesystem::path& directory);
 
-  // Replaces each obj_path mesh of `scene` (relative to `scene_directory`) by the
+  // Replaces each obj_path or gltf_path mesh of `scene` (relative to `scene_directory`) by the
   // artifact of its bytes, uploading only those the server lacks. The server never
   // sees a client path. Returns how many meshes were uploaded.
   int UploadMeshes(v1::SceneSpec& scene, const std::filesystem::path& scene_directory);

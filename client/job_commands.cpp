@@ -1,9 +1,11 @@
-// loom fabric precompute | render | jobs list|show|watch|cancel|log|priority|retry|rm
+// loom fabric precompute | render | animate | jobs list|show|watch|cancel|log|priority|retry|rm
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "client/client_command.h"
+#include "core/animate/cloth_sequence_io.h"
 #include "core/image/image.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
@@ -45,8 +47,7 @@ struct SubmitOptions {
 
   void AddTo(CLI::App* command) {
     command->add_option("--priority", priority, "Higher runs first")->capture_default_str();
-    command->add_option("--request-id", request_id,
-                        "Idempotency key: submitting again with it returns the first job");
+    command->add_option("--request-id", request_id, "Idempotency key: submitting again with it returns the first job");
     command->add_flag("--no-wait", no_wait, "Print the job and return without waiting for it");
   }
   void Fill(v1::SubmitJobRequest& request) const {
@@ -60,8 +61,10 @@ struct SubmitOptions {
 v1::Job SubmitAndWait(ClientFlags& flags, const v1::SubmitJobRequest& request, const SubmitOptions& options,
                       const std::string& label) {
   const v1::SubmitJobResponse response = flags.Connect().Submit(request);
-  if (flags.json) PrintJson(response);
-  else std::fprintf(stderr, "submitted job %s\n", response.job().id().c_str());
+  if (flags.json)
+    PrintJson(response);
+  else
+    std::fprintf(stderr, "submitted job %s\n", response.job().id().c_str());
   if (options.no_wait) return response.job();
   for (const v1::Job& dependency : response.dependencies()) {
     if (IsTerminal(dependency.state())) continue;
@@ -97,10 +100,21 @@ ClientCommand AddPrecompute(CLI::App& fabric, ClientFlags& flags) {
             if (options->submit.no_wait) return 0;
             if (const int code = JobExitCode(done)) return code;
             if (!options->out.empty()) flags.Connect().DownloadFabric(done.fabric_key(), options->out);
-            if (flags.json) PrintJson(done);
-            else std::printf("fabric %s\n", done.fabric_key().c_str());
+            if (flags.json)
+              PrintJson(done);
+            else
+              std::printf("fabric %s\n", done.fabric_key().c_str());
             return 0;
           }};
+}
+
+// The one result of a render or animate job, downloaded.
+std::string DownloadResult(ClientFlags& flags, const v1::Job& done) {
+  if (done.result_artifacts_size() != 1) {
+    throw Error(ErrorCode::kInternal, KindName(done.kind()) + " job " + done.id() + " has " +
+                                          std::to_string(done.result_artifacts_size()) + " results, not 1");
+  }
+  return flags.Connect().Download(done.result_artifacts(0));
 }
 
 ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
@@ -114,32 +128,65 @@ ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
   command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
   command->add_option("--out,-o", options->out, "Output image (.png sRGB or .exr linear)")->required();
   options->submit.AddTo(command);
+  return {
+      command, [&flags, options] {
+        const ImageFileFormat format = FormatFromPath(options->out);  // a bad name fails before any work
+        v1::SubmitJobRequest request;
+        v1::SceneSpec& scene = *request.mutable_render()->mutable_scene();
+        scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
+        const v1::ImageFormat wanted = format == ImageFileFormat::kExr ? v1::IMAGE_FORMAT_EXR : v1::IMAGE_FORMAT_PNG;
+        if (scene.render().format() == v1::IMAGE_FORMAT_UNSPECIFIED) scene.mutable_render()->set_format(wanted);
+        if (scene.render().format() != wanted) {
+          throw Error(ErrorCode::kInvalidArgument, "scene.render.format is " +
+                                                       v1::ImageFormat_Name(scene.render().format()) +
+                                                       " but the output file is " + options->out);
+        }
+        const int uploaded = flags.Connect().UploadMeshes(scene, std::filesystem::path(options->scene).parent_path());
+        if (uploaded > 0 && !flags.json) std::fprintf(stderr, "uploaded %d mesh(es)\n", uploaded);
+        options->submit.Fill(request);
+        const v1::Job done = SubmitAndWait(flags, request, options->submit, "render");
+        if (options->submit.no_wait) return 0;
+        if (const int code = JobExitCode(done)) return code;
+        WriteFileAtomic(options->out, DownloadResult(flags, done));
+        if (flags.json)
+          PrintJson(done);
+        else
+          std::printf("wrote %s (job %s)\n", options->out.c_str(), done.id().c_str());
+        return 0;
+      }};
+}
+
+ClientCommand AddAnimate(CLI::App& app, ClientFlags& flags) {
+  struct Options {
+    std::string spec, out, obj_dir;
+    SubmitOptions submit;
+  };
+  auto options = std::make_shared<Options>();
+  auto* command = app.add_subcommand("animate", "Simulate a knit cloth's animation on the server (docs/animation.md)");
+  command->add_option("spec", options->spec, "Animation spec file (JSON)")->required();
+  command->add_option("--out,-o", options->out, "The mesh sequence: glTF 2.0 binary (.glb)")->required();
+  command->add_option("--obj-dir", options->obj_dir, "Also write frame_NNNNN.obj per frame into this directory");
+  options->submit.AddTo(command);
   return {command, [&flags, options] {
-            const ImageFileFormat format = FormatFromPath(options->out);  // a bad name fails before any work
-            v1::SubmitJobRequest request;
-            v1::SceneSpec& scene = *request.mutable_render()->mutable_scene();
-            scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
-            const v1::ImageFormat wanted = format == ImageFileFormat::kExr ? v1::IMAGE_FORMAT_EXR : v1::IMAGE_FORMAT_PNG;
-            if (scene.render().format() == v1::IMAGE_FORMAT_UNSPECIFIED) scene.mutable_render()->set_format(wanted);
-            if (scene.render().format() != wanted) {
-              throw Error(ErrorCode::kInvalidArgument, "scene.render.format is " +
-                                                           v1::ImageFormat_Name(scene.render().format()) +
-                                                           " but the output file is " + options->out);
+            if (std::filesystem::path(options->out).extension() != ".glb") {
+              throw Error(ErrorCode::kInvalidArgument, "--out: " + options->out + " does not end in .glb");
             }
-            const int uploaded =
-                flags.Connect().UploadMeshes(scene, std::filesystem::path(options->scene).parent_path());
-            if (uploaded > 0 && !flags.json) std::fprintf(stderr, "uploaded %d mesh(es)\n", uploaded);
+            v1::SubmitJobRequest request;
+            *request.mutable_animate()->mutable_animation() =
+                LoadSpecFile<v1::AnimationSpec>(options->spec, "animation");
             options->submit.Fill(request);
-            const v1::Job done = SubmitAndWait(flags, request, options->submit, "render");
+            const v1::Job done = SubmitAndWait(flags, request, options->submit, "animate");
             if (options->submit.no_wait) return 0;
             if (const int code = JobExitCode(done)) return code;
-            if (done.result_artifacts_size() != 1) {
-              throw Error(ErrorCode::kInternal, "render job " + done.id() + " has " +
-                                                    std::to_string(done.result_artifacts_size()) + " results, not 1");
+            const std::string bytes = DownloadResult(flags, done);
+            WriteFileAtomic(options->out, bytes);
+            if (!options->obj_dir.empty()) {
+              animate::WriteObjSequence(ParseGltfSequence(bytes, "job " + done.id()), options->obj_dir);
             }
-            WriteFileAtomic(options->out, flags.Connect().Download(done.result_artifacts(0)));
-            if (flags.json) PrintJson(done);
-            else std::printf("wrote %s (job %s)\n", options->out.c_str(), done.id().c_str());
+            if (flags.json)
+              PrintJson(done);
+            else
+              std::printf("wrote %s (job %s)\n", options->out.c_str(), done.id().c_str());
             return 0;
           }};
 }
@@ -156,7 +203,7 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
   auto list_options = std::make_shared<ListOptions>();
   auto* list = jobs->add_subcommand("list", "Jobs, newest first");
   list->add_option("--state", list_options->states, "Only these states (queued, leased, running, succeeded, ...)");
-  list->add_option("--kind", list_options->kinds, "Only these kinds (precompute, render)");
+  list->add_option("--kind", list_options->kinds, "Only these kinds (precompute, render, animate)");
   list->add_option("--limit", list_options->limit, "Page size")->check(CLI::Range(1, 1000))->capture_default_str();
   list->add_option("--page-token", list_options->page_token, "Continue from a previous page");
   commands.push_back({list, [&flags, list_options] {
@@ -200,17 +247,20 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
   };
   add("show", "A job's state, progress, results and error", [&flags, job_id] {
     const v1::Job job = flags.Connect().Get(*job_id);
-    if (flags.json) PrintJson(job);
-    else PrintJob(job);
+    if (flags.json)
+      PrintJson(job);
+    else
+      PrintJob(job);
     return 0;
   });
-  add("watch", "Follow a job to its end (its log lines, a progress bar on a terminal)", [&flags, job_id] {
-    return JobExitCode(WaitForJob(flags, *job_id, "job " + job_id->substr(0, 8), true));
-  });
+  add("watch", "Follow a job to its end (its log lines, a progress bar on a terminal)",
+      [&flags, job_id] { return JobExitCode(WaitForJob(flags, *job_id, "job " + job_id->substr(0, 8), true)); });
   add("cancel", "Cancel a job (a running one stops at its worker's next heartbeat)", [&flags, job_id] {
     const v1::Job job = flags.Connect().Cancel(*job_id);
-    if (flags.json) PrintJson(job);
-    else PrintJobLine(job);
+    if (flags.json)
+      PrintJson(job);
+    else
+      PrintJobLine(job);
     return 0;
   });
   add("log", "A job's log: the queue's and its workers' lines", [&flags, job_id] {
@@ -235,8 +285,10 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
   set_priority->add_option("priority", priority->priority, "New priority")->required();
   commands.push_back({set_priority, [&flags, priority] {
                         const v1::Job job = flags.Connect().SetPriority(priority->job_id, priority->priority);
-                        if (flags.json) PrintJson(job);
-                        else PrintJobLine(job);
+                        if (flags.json)
+                          PrintJson(job);
+                        else
+                          PrintJobLine(job);
                         return 0;
                       }});
 
@@ -249,14 +301,18 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
   };
   add_many("retry", "Queue failed or cancelled jobs again (and the failed jobs they depend on)", [&flags, job_ids] {
     const v1::RetryJobsResponse response = flags.Connect().Retry(*job_ids);
-    if (flags.json) PrintJson(response);
-    else for (const v1::Job& job : response.jobs()) PrintJobLine(job);
+    if (flags.json)
+      PrintJson(response);
+    else
+      for (const v1::Job& job : response.jobs()) PrintJobLine(job);
     return 0;
   });
-  add_many("rm", "Delete finished jobs, their logs and their frames", [&flags, job_ids] {
+  add_many("rm", "Delete finished jobs, their logs and their results (frames, sequences)", [&flags, job_ids] {
     const v1::DeleteJobsResponse response = flags.Connect().Delete(*job_ids);
-    if (flags.json) PrintJson(response);
-    else std::printf("deleted %u job(s), %u frame(s)\n", response.deleted_jobs(), response.removed_frames());
+    if (flags.json)
+      PrintJson(response);
+    else
+      std::printf("deleted %u job(s), %u frame(s)\n", response.deleted_jobs(), response.removed_frames());
     return 0;
   });
   return commands;
@@ -266,7 +322,7 @@ std::vector<ClientCommand> AddJobsCommands(CLI::App& app, ClientFlags& flags) {
 
 std::vector<ClientCommand> AddJobCommands(CLI::App& app, ClientFlags& flags) {
   auto* fabric = app.add_subcommand("fabric", "Fabric precomputes");
-  std::vector<ClientCommand> commands = {AddPrecompute(*fabric, flags), AddRender(app, flags)};
+  std::vector<ClientCommand> commands = {AddPrecompute(*fabric, flags), AddRender(app, flags), AddAnimate(app, flags)};
   for (ClientCommand& command : AddJobsCommands(app, flags)) commands.push_back(std::move(command));
   return commands;
 }

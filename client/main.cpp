@@ -1,9 +1,8 @@
-// loom: the client CLI. Submits precompute and render jobs to loom-server and
+// loom: the client CLI. Submits precompute, render and animate jobs to loom-server and
 // waits for them, lists, watches and cancels jobs, queries and downloads the fabric
 // cache, and checks spec files locally exactly as the server will.
 
 #include <CLI/CLI.hpp>
-
 #include <cstdlib>
 #include <vector>
 

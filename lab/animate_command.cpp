@@ -38,8 +38,11 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
                   spec, [&](size_t done, size_t total) { bar.Update(double(done) / total, "frames"); },
                   options->threads);
             }
-            if (!options->gltf.empty()) animate::WriteGltfSequence(animation, options->gltf);
-            if (!options->obj_dir.empty()) animate::WriteObjSequence(animation, options->obj_dir);
+            if (!options->gltf.empty() || !options->obj_dir.empty()) {
+              const MeshSequence sequence = animate::ClothSequence(animation);
+              if (!options->gltf.empty()) animate::WriteGltfSequence(sequence, options->gltf);
+              if (!options->obj_dir.empty()) animate::WriteObjSequence(sequence, options->obj_dir);
+            }
             const auto& counts = animation.counts;
             const size_t triangles = 2 * size_t(animation.cloth.across - 1) * (animation.cloth.along - 1);
             if (flags.json) {

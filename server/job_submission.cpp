@@ -40,7 +40,8 @@ void CheckNoUnknownFields(const google::protobuf::Message& message, const std::s
       continue;
     }
     for (int i = 0; i < reflection.FieldSize(message, field); ++i) {
-      CheckNoUnknownFields(reflection.GetRepeatedMessage(message, field, i), field_path + "[" + std::to_string(i) + "]");
+      CheckNoUnknownFields(reflection.GetRepeatedMessage(message, field, i),
+                           field_path + "[" + std::to_string(i) + "]");
     }
   }
 }
@@ -52,8 +53,8 @@ std::set<std::string> CheckMeshSources(const v1::SceneSpec& scene, ArtifactStore
   for (int i = 0; i < scene.objects_size(); ++i) {
     const v1::MeshRef& mesh = scene.objects(i).mesh();
     const std::string path = "scene.objects[" + std::to_string(i) + "].mesh";
-    if (mesh.source_case() == v1::MeshRef::kObjPath) {
-      Invalid(path + ".obj_path",
+    if (mesh.source_case() == v1::MeshRef::kObjPath || mesh.source_case() == v1::MeshRef::kGltfPath) {
+      Invalid(path + (mesh.source_case() == v1::MeshRef::kObjPath ? ".obj_path" : ".gltf_path"),
               "the server never opens client paths; upload the mesh and name its artifact (loom render does)");
     }
     if (mesh.source_case() != v1::MeshRef::kArtifact) continue;
@@ -147,8 +148,19 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
     spdlog::info("job {}: precompute of fabric {}", response.job().id(), response.job().fabric_key());
     return response;
   }
+  if (request.payload_case() == v1::SubmitJobRequest::kAnimate) {
+    ThrowIfAny(Validate(request.animate().animation()));
+    v1::Job job;
+    job.set_kind(v1::JOB_KIND_ANIMATE);
+    *job.mutable_animate() = request.animate();
+    job.set_priority(request.priority());
+    job.set_client_request_id(request.client_request_id());
+    *response.mutable_job() = queue.Submit(job);
+    spdlog::info("job {}: animate '{}'", response.job().id(), request.animate().animation().name());
+    return response;
+  }
   if (request.payload_case() != v1::SubmitJobRequest::kRender) {
-    Invalid("payload", "one of precompute or render is required");
+    Invalid("payload", "one of precompute, render or animate is required");
   }
 
   const v1::SceneSpec& scene = request.render().scene();

@@ -54,6 +54,10 @@ struct ServiceState {
   int64_t result_retention_ms = 86'400'000;
 };
 
+// A render's frame and an animation's sequence are the job's own results, kept as
+// below and removed with the job; a precompute's files are the fabric cache's.
+inline bool KeepsResults(v1::JobKind kind) { return kind == v1::JOB_KIND_RENDER || kind == v1::JOB_KIND_ANIMATE; }
+
 // Frames. A render's result artifacts are pinned as "result:<job id>" when its
 // worker completes it, before the job reads SUCCEEDED, so that no eviction (a small
 // --cache-bytes, a busy farm) takes a frame its client has not fetched yet; the pins

@@ -8,8 +8,9 @@
 #include <charconv>
 #include <string_view>
 
-#include "core/methods/fabric_method.h"
+#include "core/animate/cloth_sequence_io.h"
 #include "core/image/image.h"
+#include "core/methods/fabric_method.h"
 #include "core/render/reference_renderer.h"
 #include "core/spec/defaults.h"
 #include "core/spec/validate.h"
@@ -117,20 +118,35 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
   const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes);
   Image image;
   switch (scene.render().method()) {
-    case v1::RENDER_METHOD_REFERENCE: image = ReferenceRenderer().Render(scene, geometry, progress).image; break;
+    case v1::RENDER_METHOD_REFERENCE:
+      image = ReferenceRenderer().Render(scene, geometry, progress).image;
+      break;
     case v1::RENDER_METHOD_LUMISLICE: {
       if (!lumislice_renderer_) lumislice_renderer_ = std::make_unique<LumisliceRenderer>(*context_);
       const SceneLumislices lumislices = BuildSceneLumislices(geometry, LumisliceSettings(), &lumislice_cache_);
       image = lumislice_renderer_->Render(scene, geometry, lumislices.per_mesh).rendered.image;
       break;
     }
-    default: image = RenderScene(*renderer_, scene, geometry, assets).image; break;
+    default:
+      image = RenderScene(*renderer_, scene, geometry, assets).image;
+      break;
   }
   const bool exr = scene.render().format() == v1::IMAGE_FORMAT_EXR;
   const std::string name = exr ? "frame.exr" : "frame.png";
   const StepDirectory directory(NewScratchPath("frame"));
   WriteImage(image, directory.path() / name);
   return {name, ReadFile(directory.path() / name)};
+}
+
+NamedFile JobRunner::Animate(const v1::AnimateJob& job, const PrecomputeProgress& progress) {
+  const animate::ClothAnimation animation = animate::RunAnimation(job.animation(), [&](size_t done, size_t total) {
+    progress(static_cast<double>(done) / static_cast<double>(total),
+             "simulation: frame " + std::to_string(done) + "/" + std::to_string(total));
+  });
+  const StepDirectory directory(NewScratchPath("sequence"));
+  const std::filesystem::path path = directory.path() / "sequence.glb";
+  animate::WriteGltfSequence(animate::ClothSequence(animation), path);
+  return {path.filename().string(), ReadFile(path)};
 }
 
 }  // namespace loom::worker

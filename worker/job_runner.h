@@ -1,6 +1,7 @@
 #pragma once
 // What a render worker does with a leased job, without the RPC around it: a
-// precompute becomes the fabric asset's files, a render becomes the frame file.
+// precompute becomes the fabric asset's files, a render becomes the frame file, an
+// animation becomes its mesh sequence.
 // Owns the worker's one EGL context (made once, reused for every job) and its
 // svbrdf renderer (shader programs compiled once), and a scratch directory for the
 // asset and image files core reads and writes: TMPDIR/loom-worker-<pid>-<n>, a
@@ -28,7 +29,7 @@ namespace loom::worker {
 
 // One file of a job's result (or of a fabric asset it reads).
 struct NamedFile {
-  std::string name;  // "parameters.exr", "lut.exr", "manifest.json", "frame.png", "frame.exr"
+  std::string name;  // "parameters.exr", "lut.exr", "manifest.json", "frame.png", "frame.exr", "sequence.glb"
   std::string bytes;
 };
 
@@ -63,13 +64,19 @@ class JobRunner {
   NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FabricAssets& assets,
                    const ReferenceProgress& progress = {});
 
+  // The knit cloth of `job` simulated through its animation, as "sequence.glb"
+  // (core/animate/cloth_sequence_io.h); the spec is validated first
+  // (Error(kInvalidArgument) naming the field). `progress` hears of every frame;
+  // what it throws abandons the simulation.
+  NamedFile Animate(const v1::AnimateJob& job, const PrecomputeProgress& progress);
+
  private:
   static constexpr size_t kLumisliceCacheFabrics = 4;
   std::filesystem::path NewScratchPath(const std::string& stem);
 
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<GpuRenderer> renderer_;
-  std::unique_ptr<LumisliceRenderer> lumislice_renderer_;  // made for the first lumislice job
+  std::unique_ptr<LumisliceRenderer> lumislice_renderer_;   // made for the first lumislice job
   LumisliceCache lumislice_cache_{kLumisliceCacheFabrics};  // the last lumislice jobs' knit fabrics
   std::filesystem::path scratch_;
   uint64_t next_scratch_ = 0;

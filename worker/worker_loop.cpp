@@ -166,8 +166,8 @@ class WorkerLoop::Lease {
   std::mutex mu_;
   std::condition_variable wake_;
   bool done_ = false;
-  bool urgent_ = true;   // send at once: the lease began, or a stage did
-  bool moved_ = false;   // the progress moved since the last heartbeat
+  bool urgent_ = true;  // send at once: the lease began, or a stage did
+  bool moved_ = false;  // the progress moved since the last heartbeat
   v1::JobProgress progress_;
   std::vector<std::string> log_;
   Interruption interruption_ = Interruption::kNone;
@@ -178,7 +178,8 @@ class WorkerLoop::Lease {
 class WorkerLoop::FitCache {
  public:
   const FabricAsset& Get(const v1::FabricAsset& asset, JobRunner& runner, v1::WorkerService::Stub& stub) {
-    const auto found = std::find_if(fits_.begin(), fits_.end(), [&](const auto& e) { return e.first == asset.fabric_key(); });
+    const auto found =
+        std::find_if(fits_.begin(), fits_.end(), [&](const auto& e) { return e.first == asset.fabric_key(); });
     if (found != fits_.end()) {
       std::rotate(fits_.begin(), found, found + 1);
       return *fits_.front().second;
@@ -218,8 +219,7 @@ void WorkerLoop::Register(const gl::DeviceInfo& device) {
   rpc::ThrowIfFailed(stub_->RegisterWorker(&context, request, &response), "RegisterWorker");
   worker_id_ = response.worker_id();
   heartbeat_interval_ = std::chrono::milliseconds(std::max<uint32_t>(response.heartbeat_interval_ms(), 50));
-  spdlog::info("{}: registered as {} (heartbeat every {} ms)", options_.label, worker_id_,
-               heartbeat_interval_.count());
+  spdlog::info("{}: registered as {} (heartbeat every {} ms)", options_.label, worker_id_, heartbeat_interval_.count());
 }
 
 void WorkerLoop::MarkAlive(std::string_view state) const {
@@ -302,6 +302,12 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
                                [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
     });
   }
+  if (job.has_animate()) {
+    return {timed([&] {
+      return runner.Animate(job.animate(),
+                            [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    })};
+  }
   FabricAssets fitted;
   for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
   const MeshTextResolver meshes = [this](const v1::MeshRef& mesh, const TextSink& consume) {
@@ -319,7 +325,7 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
 
 void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobResponse& leased) {
   const v1::Job& job = leased.job();
-  const char* kind = job.has_precompute() ? "precompute" : "render";
+  const char* kind = job.has_precompute() ? "precompute" : job.has_animate() ? "animate" : "render";
   spdlog::info("{}: job {} ({}), attempt {}", options_.label, job.id(), kind, job.attempts());
   MarkAlive("job " + job.id() + ": " + kind);
   Lease lease(*this, leased);
@@ -376,7 +382,9 @@ void WorkerLoop::RunJob(JobRunner& runner, FitCache& fits, const v1::LeaseJobRes
       case Interruption::kLeaseLost:
         spdlog::warn("{}: job {}: the lease was lost; dropping it", options_.label, job.id());
         return;
-      case Interruption::kCancelled: failure = "cancelled on request"; break;
+      case Interruption::kCancelled:
+        failure = "cancelled on request";
+        break;
       default:
         failure = "handed back: worker " + options_.label + " is stopping";
         fail_kind = v1::FailJobRequest::KIND_HANDED_BACK;

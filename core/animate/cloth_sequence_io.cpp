@@ -3,13 +3,12 @@
 #include <tiny_gltf.h>
 
 #include <cstdio>
-#include <cstring>
+#include <limits>
 #include <sstream>
 #include <string>
 
 #include "core/scene/mesh_preparation.h"
 #include "core/scene/obj_writer.h"
-#include "core/spec/limits.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 
@@ -70,68 +69,6 @@ class GltfBuilder {
   tinygltf::Model& model_;
 };
 
-// --- Reading -------------------------------------------------------------------
-
-[[noreturn]] void Fail(const std::filesystem::path& path, const std::string& what) {
-  throw Error(ErrorCode::kInvalidArgument, "glTF " + path.string() + ": " + what);
-}
-
-// The accessor's elements, each `components` values of type T (checked against
-// its declared types), whatever its stride.
-template <typename T>
-std::vector<T> ReadAccessor(const tinygltf::Model& model, int index, int type, int component_type,
-                            const std::filesystem::path& path, const std::string& what) {
-  if (index < 0 || index >= static_cast<int>(model.accessors.size())) Fail(path, what + ": no such accessor");
-  const tinygltf::Accessor& accessor = model.accessors[index];
-  if (accessor.type != type || accessor.componentType != component_type) {
-    Fail(path, what + ": unexpected accessor type");
-  }
-  if (accessor.sparse.isSparse || accessor.bufferView < 0 ||
-      accessor.bufferView >= static_cast<int>(model.bufferViews.size())) {
-    Fail(path, what + ": sparse or bufferless accessors are not read");
-  }
-  const tinygltf::BufferView& view = model.bufferViews[accessor.bufferView];
-  if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) Fail(path, what + ": no such buffer");
-  const std::vector<unsigned char>& data = model.buffers[view.buffer].data;
-  const int components = tinygltf::GetNumComponentsInType(type);
-  const size_t element = components * sizeof(T);
-  const int stride = accessor.ByteStride(view);
-  if (stride < static_cast<int>(element)) Fail(path, what + ": bad byte stride");
-  const size_t count = accessor.count;
-  if (count > static_cast<size_t>(kMaxMeshVertices) * 3) Fail(path, what + ": too many elements");
-  const size_t begin = view.byteOffset + accessor.byteOffset;
-  const size_t end = count == 0 ? begin : begin + (count - 1) * static_cast<size_t>(stride) + element;
-  if (end > view.byteOffset + view.byteLength || end > data.size()) Fail(path, what + ": runs past its buffer");
-  std::vector<T> values(count * components);
-  for (size_t i = 0; i < count; ++i) std::memcpy(&values[i * components], &data[begin + i * stride], element);
-  return values;
-}
-
-std::vector<glm::vec3> ToVec3s(const std::vector<float>& values) {
-  std::vector<glm::vec3> points(values.size() / 3);
-  std::memcpy(points.data(), values.data(), points.size() * sizeof(glm::vec3));
-  return points;
-}
-
-std::vector<uint32_t> ReadIndices(const tinygltf::Model& model, int index, const std::filesystem::path& path) {
-  if (index < 0 || index >= static_cast<int>(model.accessors.size())) Fail(path, "the primitive has no indices");
-  switch (model.accessors[index].componentType) {
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-      const auto v = ReadAccessor<uint8_t>(model, index, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                           path, "indices");
-      return {v.begin(), v.end()};
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      const auto v = ReadAccessor<uint16_t>(model, index, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                            path, "indices");
-      return {v.begin(), v.end()};
-    }
-    default:
-      return ReadAccessor<uint32_t>(model, index, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, path,
-                                    "indices");
-  }
-}
-
 // The cloth's positions, uvs and triangles, without normals (every triangle
 // kept, degenerate or not).
 TriangleMesh UnpreparedClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& positions) {
@@ -149,40 +86,51 @@ TriangleMesh UnpreparedClothMesh(const KnitCloth& cloth, const std::vector<glm::
 
 }  // namespace
 
-TriangleMesh ClothMesh(const KnitCloth& cloth, const std::vector<glm::vec3>& positions) {
-  TriangleMesh mesh = UnpreparedClothMesh(cloth, positions);
-  PrepareMesh(mesh, "animated cloth");
-  return mesh;
+MeshSequence ClothSequence(const ClothAnimation& animation) {
+  if (animation.frames.empty()) throw Error(ErrorCode::kInvalidArgument, "cloth sequence: no frames");
+  MeshSequence sequence;
+  sequence.mesh = UnpreparedClothMesh(animation.cloth, animation.frames[0]);
+  sequence.frames = animation.frames;
+  for (size_t k = 0; k < animation.frames.size(); ++k) {
+    sequence.times.push_back(static_cast<float>(k / double{animation.frames_per_second}));
+  }
+  return sequence;
 }
 
-void WriteObjSequence(const ClothAnimation& animation, const std::filesystem::path& directory) {
+void WriteObjSequence(const MeshSequence& sequence, const std::filesystem::path& directory) {
   std::filesystem::create_directories(directory);
-  for (size_t k = 0; k < animation.frames.size(); ++k) {
+  for (size_t k = 0; k < sequence.frames.size(); ++k) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%05zu.obj", k);
-    WriteObj(ClothMesh(animation.cloth, animation.frames[k]), directory / name);
+    TriangleMesh mesh = SequenceFrame(sequence, k, name);
+    PrepareMesh(mesh, name);
+    WriteObj(mesh, directory / name);
   }
 }
 
-void WriteGltfSequence(const ClothAnimation& animation, const std::filesystem::path& path) {
-  if (animation.frames.empty()) throw Error(ErrorCode::kInvalidArgument, "glTF sequence: no frames");
+void WriteGltfSequence(const MeshSequence& sequence, const std::filesystem::path& path) {
+  if (sequence.frames.empty() || sequence.times.size() != sequence.frames.size()) {
+    throw Error(ErrorCode::kInvalidArgument, "glTF sequence: no frames, or not one time a frame");
+  }
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "Loom";
   GltfBuilder builder(model);
-  const std::vector<glm::vec3>& base = animation.frames[0];
+  const std::vector<glm::vec3>& base = sequence.frames[0];
   const size_t vertices = base.size();
+  const TriangleMesh& mesh = sequence.mesh;
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   primitive.attributes["POSITION"] = builder.Floats(&base[0].x, vertices, TINYGLTF_TYPE_VEC3, 3, true);
-  const TriangleMesh mesh = UnpreparedClothMesh(animation.cloth, base);
-  primitive.attributes["TEXCOORD_0"] = builder.Floats(&mesh.uvs[0].x, vertices, TINYGLTF_TYPE_VEC2, 2, false);
+  if (mesh.uvs.size() == vertices) {
+    primitive.attributes["TEXCOORD_0"] = builder.Floats(&mesh.uvs[0].x, vertices, TINYGLTF_TYPE_VEC2, 2, false);
+  }
   primitive.indices = builder.Indices(mesh.indices);
   // Target k − 1 moves frame 0 to frame k.
-  const size_t targets = animation.frames.size() - 1;
+  const size_t targets = sequence.frames.size() - 1;
   std::vector<glm::vec3> delta(vertices);
   for (size_t k = 1; k <= targets; ++k) {
-    for (size_t v = 0; v < vertices; ++v) delta[v] = animation.frames[k][v] - base[v];
+    for (size_t v = 0; v < vertices; ++v) delta[v] = sequence.frames[k][v] - base[v];
     primitive.targets.push_back({{"POSITION", builder.Floats(&delta[0].x, vertices, TINYGLTF_TYPE_VEC3, 3, true)}});
   }
   tinygltf::Mesh gltf_mesh;
@@ -198,12 +146,9 @@ void WriteGltfSequence(const ClothAnimation& animation, const std::filesystem::p
   model.scenes.push_back(scene);
   model.defaultScene = 0;
   if (targets > 0) {
-    // Key k at k / rate: frame 0 has every weight 0, frame k weight 1 on target k − 1.
-    std::vector<float> times(targets + 1), weights((targets + 1) * targets, 0.0f);
-    for (size_t k = 0; k <= targets; ++k) {
-      times[k] = static_cast<float>(k / double{animation.frames_per_second});
-      if (k > 0) weights[k * targets + (k - 1)] = 1.0f;
-    }
+    // Key k at frame k's time: frame 0 has every weight 0, frame k weight 1 on target k − 1.
+    std::vector<float> times = sequence.times, weights((targets + 1) * targets, 0.0f);
+    for (size_t k = 1; k <= targets; ++k) weights[k * targets + (k - 1)] = 1.0f;
     tinygltf::AnimationSampler sampler;
     sampler.input = builder.Floats(times.data(), times.size(), TINYGLTF_TYPE_SCALAR, 1, true);
     sampler.output = builder.Floats(weights.data(), weights.size(), TINYGLTF_TYPE_SCALAR, 1, false);
@@ -226,84 +171,6 @@ void WriteGltfSequence(const ClothAnimation& animation, const std::filesystem::p
     throw Error(ErrorCode::kInternal, "glTF " + path.string() + ": writing failed");
   }
   WriteFileAtomic(path, out.str());
-}
-
-MeshSequence ReadGltfSequence(const std::filesystem::path& path) {
-  const std::string bytes = ReadFile(path);
-  tinygltf::Model model;
-  tinygltf::TinyGLTF loader;
-  std::string error, warning;
-  const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-  const bool loaded =
-      binary
-          ? loader.LoadBinaryFromMemory(&model, &error, &warning, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                        static_cast<unsigned>(bytes.size()), path.parent_path().string())
-          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()),
-                                       path.parent_path().string());
-  if (!loaded) Fail(path, error.empty() ? "not a glTF file" : error);
-  if (model.meshes.empty() || model.meshes[0].primitives.empty()) Fail(path, "no mesh");
-  const tinygltf::Primitive& primitive = model.meshes[0].primitives[0];
-  if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != -1) Fail(path, "the primitive is not triangles");
-  const auto position = primitive.attributes.find("POSITION");
-  if (position == primitive.attributes.end()) Fail(path, "the primitive has no POSITION");
-
-  MeshSequence sequence;
-  TriangleMesh& mesh = sequence.mesh;
-  mesh.positions = ToVec3s(ReadAccessor<float>(model, position->second, TINYGLTF_TYPE_VEC3,
-                                               TINYGLTF_COMPONENT_TYPE_FLOAT, path, "POSITION"));
-  if (mesh.positions.size() > static_cast<size_t>(kMaxMeshVertices)) Fail(path, "too many vertices");
-  if (const auto uv = primitive.attributes.find("TEXCOORD_0"); uv != primitive.attributes.end()) {
-    const std::vector<float> values =
-        ReadAccessor<float>(model, uv->second, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, path, "TEXCOORD_0");
-    if (values.size() != 2 * mesh.positions.size()) Fail(path, "TEXCOORD_0 and POSITION differ in count");
-    mesh.uvs.resize(mesh.positions.size());
-    std::memcpy(mesh.uvs.data(), values.data(), values.size() * sizeof(float));
-  }
-  mesh.indices = ReadIndices(model, primitive.indices, path);
-  if (mesh.indices.empty() || mesh.indices.size() % 3 != 0) Fail(path, "the indices are not whole triangles");
-  if (mesh.indices.size() / 3 > static_cast<size_t>(kMaxMeshTriangles)) Fail(path, "too many triangles");
-  for (uint32_t index : mesh.indices) {
-    if (index >= mesh.positions.size()) Fail(path, "an index past the last vertex");
-  }
-
-  std::vector<std::vector<glm::vec3>> deltas;
-  for (size_t t = 0; t < primitive.targets.size(); ++t) {
-    const auto target = primitive.targets[t].find("POSITION");
-    if (target == primitive.targets[t].end()) Fail(path, "a morph target without POSITION");
-    deltas.push_back(ToVec3s(ReadAccessor<float>(model, target->second, TINYGLTF_TYPE_VEC3,
-                                                 TINYGLTF_COMPONENT_TYPE_FLOAT, path, "a morph target")));
-    if (deltas.back().size() != mesh.positions.size()) Fail(path, "a morph target and POSITION differ in count");
-  }
-  const tinygltf::AnimationSampler* weights = nullptr;
-  for (const tinygltf::Animation& animation : model.animations) {
-    for (const tinygltf::AnimationChannel& channel : animation.channels) {
-      if (channel.target_path == "weights" && channel.sampler >= 0 &&
-          channel.sampler < static_cast<int>(animation.samplers.size())) {
-        weights = &animation.samplers[channel.sampler];
-      }
-    }
-  }
-  if (weights == nullptr || deltas.empty()) {
-    sequence.frames = {mesh.positions};
-    sequence.times = {0.0f};
-    return sequence;
-  }
-  sequence.times = ReadAccessor<float>(model, weights->input, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT, path,
-                                       "the animation's times");
-  const std::vector<float> w = ReadAccessor<float>(model, weights->output, TINYGLTF_TYPE_SCALAR,
-                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, path, "the animation's weights");
-  if (w.size() != sequence.times.size() * deltas.size()) Fail(path, "the weights are not one a target a key");
-  if (sequence.times.size() * mesh.positions.size() > kMaxAnimationPoints) Fail(path, "too many frames");
-  for (size_t k = 0; k < sequence.times.size(); ++k) {
-    std::vector<glm::vec3> frame = mesh.positions;
-    for (size_t t = 0; t < deltas.size(); ++t) {
-      const float weight = w[k * deltas.size() + t];
-      if (weight == 0.0f) continue;
-      for (size_t v = 0; v < frame.size(); ++v) frame[v] += weight * deltas[t][v];
-    }
-    sequence.frames.push_back(std::move(frame));
-  }
-  return sequence;
 }
 
 }  // namespace loom::animate

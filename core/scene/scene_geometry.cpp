@@ -4,6 +4,7 @@
 
 #include "core/scene/builtin_shapes.h"
 #include "core/scene/camera.h"
+#include "core/scene/gltf_loader.h"
 #include "core/scene/obj_loader.h"
 #include "core/spec/limits.h"
 #include "core/util/error.h"
@@ -16,11 +17,16 @@ constexpr int kDefaultSegments = 64;
 
 TriangleMesh BuiltinMesh(v1::BuiltinShape shape, int segments) {
   switch (shape) {
-    case v1::BUILTIN_SHAPE_PLANE: return MakePlane(segments);
-    case v1::BUILTIN_SHAPE_SPHERE: return MakeSphere(segments);
-    case v1::BUILTIN_SHAPE_CYLINDER: return MakeCylinder(segments);
-    case v1::BUILTIN_SHAPE_DRAPE: return MakeDrape(segments);
-    default: break;
+    case v1::BUILTIN_SHAPE_PLANE:
+      return MakePlane(segments);
+    case v1::BUILTIN_SHAPE_SPHERE:
+      return MakeSphere(segments);
+    case v1::BUILTIN_SHAPE_CYLINDER:
+      return MakeCylinder(segments);
+    case v1::BUILTIN_SHAPE_DRAPE:
+      return MakeDrape(segments);
+    default:
+      break;
   }
   throw Error(ErrorCode::kInvalidArgument, "unknown built-in shape " + std::to_string(shape));
 }
@@ -40,22 +46,70 @@ void Transform(TriangleMesh& mesh, const glm::mat4& model) {
 void CheckWithinLimits(const TriangleMesh& mesh, const MeshLimits& left, const std::string& label) {
   if (static_cast<int64_t>(mesh.triangle_count()) > left.triangles ||
       static_cast<int64_t>(mesh.positions.size()) > left.vertices) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "mesh " + label + ": " + std::to_string(mesh.triangle_count()) + " triangles and " +
-                    std::to_string(mesh.positions.size()) + " vertices exceed what the scene's earlier objects left of " +
-                    "its caps (" + std::to_string(kMaxMeshTriangles) + " triangles, " +
-                    std::to_string(kMaxMeshVertices) + " vertices)");
+    throw Error(ErrorCode::kInvalidArgument, "mesh " + label + ": " + std::to_string(mesh.triangle_count()) +
+                                                 " triangles and " + std::to_string(mesh.positions.size()) +
+                                                 " vertices exceed what the scene's earlier objects left of " +
+                                                 "its caps (" + std::to_string(kMaxMeshTriangles) + " triangles, " +
+                                                 std::to_string(kMaxMeshVertices) + " vertices)");
   }
 }
+
+// A mesh file streamed in pieces: an OBJ parsed as it arrives, a glTF (by its
+// first bytes, LooksLikeGltf) gathered whole and read at the end.
+class MeshFileParser {
+ public:
+  MeshFileParser(std::string label, const MeshLimits& left, uint32_t frame)
+      : label_(std::move(label)), left_(left), frame_(frame) {}
+
+  void Feed(std::string_view piece) {
+    if (obj_) return obj_->Feed(piece);
+    head_.append(piece);
+    if (!gltf_ && head_.size() >= kSniffBytes) Decide();
+  }
+
+  TriangleMesh Finish() {
+    if (!obj_ && !gltf_) Decide();
+    if (obj_) {
+      if (frame_ > 0) Fail("frame " + std::to_string(frame_) + " of an OBJ mesh (frames belong to glTF sequences)");
+      return obj_->Finish();
+    }
+    TriangleMesh mesh = ParseGltfFrame(head_, frame_, "mesh " + label_);
+    CheckWithinLimits(mesh, left_, label_);
+    return mesh;
+  }
+
+ private:
+  // Enough to see "glTF", or a "{" behind some white space.
+  static constexpr size_t kSniffBytes = 64;
+
+  void Decide() {
+    gltf_ = LooksLikeGltf(head_);
+    if (gltf_) return;
+    obj_ = std::make_unique<ObjParser>(label_, left_);
+    obj_->Feed(std::exchange(head_, {}));
+  }
+  [[noreturn]] void Fail(const std::string& what) const {
+    throw Error(ErrorCode::kInvalidArgument, "mesh " + label_ + ": " + what);
+  }
+
+  const std::string label_;
+  const MeshLimits left_;
+  const uint32_t frame_;
+  std::string head_;  // the bytes so far, until the format is known; all of a glTF's
+  bool gltf_ = false;
+  std::unique_ptr<ObjParser> obj_;
+};
 
 }  // namespace
 
 MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory) {
   return [scene_directory](const v1::MeshRef& mesh, const TextSink& consume) {
-    if (mesh.source_case() != v1::MeshRef::kObjPath) {
-      throw Error(ErrorCode::kInvalidArgument, "mesh artifacts are resolved by the server, not from files");
+    if (mesh.source_case() == v1::MeshRef::kObjPath)
+      return ReadFileInPieces(scene_directory / mesh.obj_path(), consume);
+    if (mesh.source_case() == v1::MeshRef::kGltfPath) {
+      return ReadFileInPieces(scene_directory / mesh.gltf_path(), consume);
     }
-    ReadFileInPieces(scene_directory / mesh.obj_path(), consume);
+    throw Error(ErrorCode::kInvalidArgument, "mesh artifacts are resolved by the server, not from files");
   };
 }
 
@@ -79,8 +133,8 @@ std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const Mesh
   MeshLimits left;  // what the objects so far have left of the scene's caps
   for (int i = 0; i < scene.objects_size(); ++i) {
     const v1::SceneObject& object = scene.objects(i);
-    const std::string label = "scene.objects[" + std::to_string(i) + "]" +
-                              (object.name().empty() ? "" : " (" + object.name() + ")");
+    const std::string label =
+        "scene.objects[" + std::to_string(i) + "]" + (object.name().empty() ? "" : " (" + object.name() + ")");
     SceneMesh built;
     built.object = &object;
     const v1::MeshRef& ref = object.mesh();
@@ -89,15 +143,16 @@ std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const Mesh
       built.mesh = BuiltinMesh(ref.builtin(), segments);
       CheckWithinLimits(built.mesh, left, label);
     } else {
-      ObjParser parser(label, left);
+      MeshFileParser parser(label, left, ref.frame());
       resolve(ref, [&parser](std::string_view piece) { parser.Feed(piece); });
       built.mesh = parser.Finish();
     }
     left.triangles -= static_cast<int64_t>(built.mesh.triangle_count());
     left.vertices -= static_cast<int64_t>(built.mesh.positions.size());
     if (object.has_fabric() && built.mesh.uvs.empty()) {
-      throw Error(ErrorCode::kInvalidArgument,
-                  "mesh " + label + ": has no texture coordinates (vt): a fabric is tiled over the mesh through its UVs");
+      throw Error(
+          ErrorCode::kInvalidArgument,
+          "mesh " + label + ": has no texture coordinates (vt): a fabric is tiled over the mesh through its UVs");
     }
     built.report = PrepareMesh(built.mesh, label.c_str());
     Transform(built.mesh, ModelMatrix(object.transform()));

@@ -1,6 +1,6 @@
 #pragma once
 // A scene's objects as world-space meshes, ready for the renderers: each object's
-// mesh resolved (built-in, OBJ), prepared (core/scene/mesh_preparation.h) and
+// mesh resolved (built-in, OBJ, glTF), prepared (core/scene/mesh_preparation.h) and
 // transformed.
 
 #include <filesystem>
@@ -21,14 +21,16 @@ struct SceneMesh {
   MeshPreparationReport report;
 };
 
-// Streams the OBJ text of a mesh given by obj_path or artifact to `consume`, in
-// pieces of any size, so that a large mesh is parsed as it is read. Front ends
+// Streams the bytes of a mesh given by obj_path, gltf_path or artifact to
+// `consume`, in pieces of any size, so that a large OBJ is parsed as it is read (a
+// glTF is read whole; its first bytes tell it from an OBJ). Front ends
 // decide what may be opened: loom-lab reads files next to the scene, the server
 // reads uploaded artifacts only.
 using TextSink = std::function<void(std::string_view piece)>;
 using MeshTextResolver = std::function<void(const v1::MeshRef& mesh, const TextSink& consume)>;
 
-// Reads obj_path relative to `scene_directory` in 1 MiB pieces; refuses artifacts.
+// Reads obj_path or gltf_path relative to `scene_directory` in 1 MiB pieces;
+// refuses artifacts.
 MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory);
 
 // `scene` with defaults applied and validated. Errors name the object. Every

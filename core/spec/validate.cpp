@@ -210,7 +210,8 @@ void CheckFiniteAndKnown(const Message& message, const IssueCollector& at) {
               repeated ? reflection->GetRepeatedMessage(message, field, i) : reflection->GetMessage(message, field),
               element);
           break;
-        default: break;
+        default:
+          break;
       }
     }
   }
@@ -240,7 +241,8 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
     // The table methods keep every sample per level while they build.
     if (IsTableMethod(settings.method()) && samples > kMaxTabulatedSamples) {
       at.Report(Cat("spatial_resolution² × view_directions × light_directions = ", samples,
-                    " radiance samples exceeds ", kMaxTabulatedSamples, ", the cap of the table methods (tabulated, factored, neural)"));
+                    " radiance samples exceeds ", kMaxTabulatedSamples,
+                    ", the cap of the table methods (tabulated, factored, neural)"));
     }
   }
   at.Range("lobes", settings.lobes(), kMinLobes, kMaxLobes);
@@ -251,9 +253,8 @@ void CheckPrecompute(const v1::PrecomputeSettings& settings, const IssueCollecto
   at.Max("indirect_bounces", settings.indirect_bounces(), kMaxIndirectBounces);
   at.Range("supersampling", settings.supersampling(), 1, kMaxSupersampling);
   if (settings.colour_components() && settings.indirect_bounces() != 0) {
-    at.Report("colour_components",
-              Cat("needs indirect_bounces 0, not ", settings.indirect_bounces(),
-                  ": light inter-reflected between yarns is not linear in their albedos"));
+    at.Report("colour_components", Cat("needs indirect_bounces 0, not ", settings.indirect_bounces(),
+                                       ": light inter-reflected between yarns is not linear in their albedos"));
   }
   if (settings.method() == v1::FABRIC_METHOD_FACTORED) {
     at.Range("factored.rank", settings.factored().rank(), 1, kMaxFactoredRank);
@@ -301,9 +302,9 @@ void CheckYarn(const v1::YarnSpec& yarn, bool knit, const IssueCollector& at) {
     at.Range("lambert_blend", yarn.lambert_blend(), 0.0f, 1.0f);
     at.Range("diffuse_transmission", yarn.diffuse_transmission(), 0.0f, 1.0f);
   } else {
-    for (const auto& [field, set] : {std::pair{"height_scale", yarn.has_height_scale()},
-                                     std::pair{"lambert_blend", yarn.has_lambert_blend()},
-                                     std::pair{"diffuse_transmission", yarn.has_diffuse_transmission()}}) {
+    for (const auto& [field, set] :
+         {std::pair{"height_scale", yarn.has_height_scale()}, std::pair{"lambert_blend", yarn.has_lambert_blend()},
+          std::pair{"diffuse_transmission", yarn.has_diffuse_transmission()}}) {
       if (set) at.Report(field, "only for shading YARN_SHADING_MICROFLAKE");
     }
   }
@@ -400,7 +401,8 @@ void CheckRender(const v1::RenderSettings& settings, const IssueCollector& at) {
     case v1::RENDER_METHOD_AUTO:
       at.Report("method", Cat(v1::RenderMethod_Name(settings.method()), " is not implemented yet (roadmap)"));
       break;
-    default: break;
+    default:
+      break;
   }
   at.Range("width", settings.width(), 1, kMaxImageSide);
   at.Range("height", settings.height(), 1, kMaxImageSide);
@@ -429,10 +431,21 @@ void CheckMesh(const v1::MeshRef& mesh, const IssueCollector& at) {
       if (mesh.obj_path().empty()) at.Report("obj_path", "is empty");
       at.Length("obj_path", mesh.obj_path(), kMaxPathLength);
       break;
+    case v1::MeshRef::kGltfPath:
+      if (mesh.gltf_path().empty()) at.Report("gltf_path", "is empty");
+      at.Length("gltf_path", mesh.gltf_path(), kMaxPathLength);
+      break;
     case v1::MeshRef::kArtifact:
       if (!IsSha256Hex(mesh.artifact())) at.Report("artifact", "is not a content hash (64 lowercase hex digits)");
       break;
-    case v1::MeshRef::SOURCE_NOT_SET: at.Report("one of builtin, obj_path or artifact is required"); break;
+    case v1::MeshRef::SOURCE_NOT_SET:
+      at.Report("one of builtin, obj_path, gltf_path or artifact is required");
+      break;
+  }
+  at.Max("frame", mesh.frame(), kMaxAnimationFrames);
+  if (mesh.frame() > 0 &&
+      (mesh.source_case() == v1::MeshRef::kBuiltin || mesh.source_case() == v1::MeshRef::kObjPath)) {
+    at.Report("frame", "applies to glTF mesh sequences only");
   }
   at.Max("segments", mesh.segments(), kMaxSegments);
 }
@@ -498,8 +511,8 @@ void CheckScene(const v1::SceneSpec& scene, const IssueCollector& at) {
     if (grid > 1 && (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)) {
       at.Field("render").Report("msaa_samples",
                                 Cat(scene.render().msaa_samples(), " rays a pixel (", grid, " × ", grid,
-                                    ") make RENDER_METHOD_LUMISLICE render ", width, " × ", height,
-                                    " pixels: at most ", kMaxImageSide, " a side and ", kMaxImagePixels, " in all"));
+                                    ") make RENDER_METHOD_LUMISLICE render ", width, " × ", height, " pixels: at most ",
+                                    kMaxImageSide, " a side and ", kMaxImagePixels, " in all"));
     }
     for (int i = 0; i < scene.objects_size(); ++i) {
       const v1::SceneObject& object = scene.objects(i);
@@ -570,7 +583,8 @@ void CheckPins(const v1::AnimationSpec& animation, const IssueCollector& at) {
         element.Max("wale", pin.wale(), loops - 1, "cloth.loops − 1");
         for (uint32_t c = 0; c < courses; ++c) held.emplace_back(pin.wale(), c);
         break;
-      default: element.Report("names no loop, course or wale");
+      default:
+        element.Report("names no loop, course or wale");
     }
     CheckMotion(pin.motion(), animation.duration_seconds(), element);
     element.Min("release_seconds", pin.release_seconds(), 0.0f);
@@ -605,7 +619,8 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
         at.Field("box").Field("half_extent").Max(component, value, kMaxColliderSize);
       }
       break;
-    default: at.Report("names no plane, sphere or box");
+    default:
+      at.Report("names no plane, sphere or box");
   }
   CheckMotion(collider.motion(), duration, at);
 }
@@ -618,14 +633,14 @@ void CheckAnimation(const v1::AnimationSpec& animation, const IssueCollector& at
   at.Above("frames_per_second", animation.frames_per_second(), 0.0f);
   at.Max("frames_per_second", animation.frames_per_second(), kMaxFramesPerSecond);
   if (const uint64_t frames = AnimationFrames(animation); frames > kMaxAnimationFrames) {
-    at.Report("frames_per_second", Cat(animation.frames_per_second(), " frames a second for ",
-                                       animation.duration_seconds(), " s make ", frames, " frames; at most ",
-                                       kMaxAnimationFrames));
+    at.Report("frames_per_second",
+              Cat(animation.frames_per_second(), " frames a second for ", animation.duration_seconds(), " s make ",
+                  frames, " frames; at most ", kMaxAnimationFrames));
   } else if (const uint64_t points = (frames + 1) * animation.cloth().loops() * animation.cloth().courses();
              points > kMaxAnimationPoints) {
-    at.Report("duration_seconds", Cat(frames + 1, " frames of ", animation.cloth().loops(), " × ",
-                                      animation.cloth().courses(), " loops make ", points, " points; at most ",
-                                      kMaxAnimationPoints));
+    at.Report("duration_seconds",
+              Cat(frames + 1, " frames of ", animation.cloth().loops(), " × ", animation.cloth().courses(),
+                  " loops make ", points, " points; at most ", kMaxAnimationPoints));
   }
   CheckCoordinates(at, "initial_velocity", animation.initial_velocity(), kMaxAnimationSpeed);
   CheckPins(animation, at);

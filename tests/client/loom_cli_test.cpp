@@ -4,10 +4,10 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
-
+#include "core/scene/gltf_loader.h"
 #include "core/spec/spec_json.h"
 #include "core/util/file_io.h"
 #include "tests/server/service_fixture.h"
@@ -24,9 +24,8 @@ class LoomCliTest : public ServiceTest {
  protected:
   CliRun Loom(const std::string& arguments, const std::string& server = "") {
     const auto output_path = data_dir_ / "cli-output.txt";
-    const std::string command = std::string(LOOM_CLI) + " --server " +
-                                (server.empty() ? server_->address() : server) + " " + arguments + " > " +
-                                output_path.string() + " 2>&1";
+    const std::string command = std::string(LOOM_CLI) + " --server " + (server.empty() ? server_->address() : server) +
+                                " " + arguments + " > " + output_path.string() + " 2>&1";
     const int status = std::system(command.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ReadFile(output_path)};
   }
@@ -97,6 +96,34 @@ TEST_F(LoomCliTest, RenderUploadsTheObjMeshAndWritesTheFrame) {
   const CliRun again = Loom("render " + scene_path.string() + " -o " + frame.string());
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(again.output.find("uploaded"), std::string::npos) << again.output;
+}
+
+TEST_F(LoomCliTest, AnimateWritesTheSequenceAndObjFramesAndARenderUploadsAFrameOfIt) {
+  StartServer();
+  const auto spec = Write("hanging.json", R"({"cloth": {"loops": 4, "courses": 6, "wale_axis": {"z": -1}},
+      "pins": [{"course": 0}], "initial_velocity": {"y": 1}, "duration_seconds": 0.4})");
+  CliRun run = Loom("animate " + spec.string() + " -o " + (data_dir_ / "cloth.png").string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--out: "), std::string::npos) << run.output;
+
+  const auto glb = data_dir_ / "files" / "cloth.glb";
+  run = Loom("animate " + spec.string() + " -o " + glb.string() + " --obj-dir " + (data_dir_ / "frames").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(ReadGltfSequence(glb).frames.size(), 11u);
+  EXPECT_TRUE(std::filesystem::exists(data_dir_ / "frames" / "frame_00010.obj"));
+  EXPECT_FALSE(std::filesystem::exists(data_dir_ / "frames" / "frame_00011.obj"));
+
+  // The sequence's last frame as a scene's mesh, beside the scene: the server holds
+  // those bytes already (the job's result), so nothing is uploaded.
+  v1::SceneSpec scene = TinyScene(48, 32);
+  scene.mutable_objects(0)->mutable_mesh()->set_gltf_path("cloth.glb");
+  scene.mutable_objects(0)->mutable_mesh()->set_frame(10);
+  scene.mutable_render()->clear_format();
+  const auto scene_path = Write("scene.json", SpecToJson(scene));
+  run = Loom("render " + scene_path.string() + " -o " + (data_dir_ / "frame.png").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.output.find("uploaded"), std::string::npos) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(data_dir_ / "frame.png"));
 }
 
 // The failure policy users of render farms expect (issue 22): change a job's

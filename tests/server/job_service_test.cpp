@@ -12,9 +12,9 @@
 #include <thread>
 
 #include "core/fit/fabric_asset.h"
+#include "core/image/image.h"
 #include "core/methods/fabric_method.h"
 #include "core/plan/precompute_plan.h"
-#include "core/image/image.h"
 #include "core/render/scene_render.h"
 #include "core/scene/scene_geometry.h"
 #include "core/spec/defaults.h"
@@ -33,14 +33,6 @@ using ::testing::HasSubstr;
 
 v1::Job WaitUntilEnded(client::JobClient& client, const std::string& id) {
   return client.Watch(id, [](const v1::JobEvent&) {});
-}
-
-Image ReadImageBytes(const std::string& bytes, const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "-" + name);
-  WriteFileAtomic(path, bytes);
-  Image image = ReadImage(path);
-  std::filesystem::remove(path);
-  return image;
 }
 
 TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
@@ -90,8 +82,8 @@ TEST_F(ServiceTest, RenderWithoutPrecomputeSettingsGetsThePlannedPrecompute) {
   const v1::SubmitJobResponse submitted = client.Submit(RenderRequest(scene));
 
   const v1::SceneSpec full = WithDefaults(scene);
-  const ScenePlan plan = PlanScene(full, BuildSceneGeometry(full, FileMeshResolver({})), kDefaultErrorBudgetDb,
-                                   StandardSweepVariations());
+  const ScenePlan plan =
+      PlanScene(full, BuildSceneGeometry(full, FileMeshResolver({})), kDefaultErrorBudgetDb, StandardSweepVariations());
   ASSERT_EQ(plan.fabrics.size(), 1u);
   const v1::PrecomputeSettings& planned = plan.fabrics[0].settings;
   EXPECT_NE(planned.SerializeAsString(), WithDefaults(v1::PrecomputeSettings()).SerializeAsString())
@@ -213,8 +205,7 @@ TEST_F(AliveServiceTest, AReferenceRenderReportsProgressWhileItRuns) {
   const v1::Job done = WaitUntilEnded(client, render);
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
   std::lock_guard lock(alive->mu);
-  EXPECT_NE(std::find(alive->states.begin(), alive->states.end(), "job " + render + ": rendering"),
-            alive->states.end())
+  EXPECT_NE(std::find(alive->states.begin(), alive->states.end(), "job " + render + ": rendering"), alive->states.end())
       << ::testing::PrintToString(alive->states);
 }
 
@@ -346,8 +337,7 @@ TEST_F(ServiceTest, RenderedFrameEqualsTheCoreRenderOfTheSameSceneWithEveryMetho
   const auto context = gl::EglContext::Create();
   GpuRenderer renderer(*context);
   for (const v1::FabricMethod method :
-       {v1::FABRIC_METHOD_SVBRDF, v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED,
-        v1::FABRIC_METHOD_NEURAL}) {
+       {v1::FABRIC_METHOD_SVBRDF, v1::FABRIC_METHOD_TABULATED, v1::FABRIC_METHOD_FACTORED, v1::FABRIC_METHOD_NEURAL}) {
     SCOPED_TRACE(v1::FabricMethod_Name(method));
     v1::SceneSpec scene = TinyScene();
     v1::PrecomputeSettings settings = TinySettings();
@@ -477,8 +467,8 @@ TEST_F(ServiceTest, MeshesWithIndicesOutOfRangeAreRefusedAndTheServerGoesOn) {
   client::JobClient client = Client();
   const v1::Job before = client.Submit(PrecomputeRequest()).job();
   const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
-  for (const char* face : {"f 1/1 2/2 100000000/3", "f 1/1 2/2 -100000000/3", "f 1/1 2/2 3/100000000",
-                          "f 1/1 2/2 3/-5"}) {
+  for (const char* face :
+       {"f 1/1 2/2 100000000/3", "f 1/1 2/2 -100000000/3", "f 1/1 2/2 3/100000000", "f 1/1 2/2 3/-5"}) {
     const std::string obj = head + face + "\n";
     v1::UploadArtifactRequest::Header header;
     *header.mutable_artifact() = rpc::MakeArtifactRef("mesh.obj", obj);
@@ -501,7 +491,8 @@ TEST_F(ServiceTest, TwentyRendersOfOneUncachedFabricShareOnePrecompute) {
   StartServer(options);
   std::vector<std::future<v1::SubmitJobResponse>> submitted;
   for (int i = 0; i < 20; ++i) {
-    submitted.push_back(std::async(std::launch::async, [this] { return Client().Submit(RenderRequest(TinyScene(32, 24))); }));
+    submitted.push_back(
+        std::async(std::launch::async, [this] { return Client().Submit(RenderRequest(TinyScene(32, 24))); }));
   }
   std::set<std::string> precomputes;
   std::vector<std::string> renders;

@@ -1,14 +1,22 @@
 #include "tests/server/service_fixture.h"
 
+#include <grpcpp/client_context.h>
 #include <unistd.h>
 
 #include <atomic>
 
-#include <grpcpp/client_context.h>
-
+#include "core/util/file_io.h"
 #include "rpc/channel.h"
 
 namespace loom::server {
+
+Image ReadImageBytes(const std::string& bytes, const std::string& name) {
+  const auto path = std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "-" + name);
+  WriteFileAtomic(path, bytes);
+  Image image = ReadImage(path);
+  std::filesystem::remove(path);
+  return image;
+}
 
 void ServiceTest::StartServer(ServerOptions options) {
   static std::atomic<int> next{0};

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "client/job_client.h"
+#include "core/image/image.h"
 #include "loom/v1/service.grpc.pb.h"
 #include "rpc/channel.h"
 #include "server/loom_server.h"
@@ -24,6 +25,9 @@ std::unique_ptr<v1::WorkerService::Stub> RawWorkerStub(const LoomServer& server,
 // Registers a worker by hand (as loom-worker does); returns its id.
 std::string RegisterWorker(v1::WorkerService::Stub& stub);
 grpc::Status RawSubmit(v1::LoomService::Stub& stub, const v1::SubmitJobRequest& request);
+// An encoded image (a served frame) decoded; `name` gives its format (".exr").
+Image ReadImageBytes(const std::string& bytes, const std::string& name);
+
 // Jobs the server lists (of `kind`; UNSPECIFIED: all), up to 1000.
 int JobCount(client::JobClient& client, v1::JobKind kind = v1::JOB_KIND_UNSPECIFIED);
 

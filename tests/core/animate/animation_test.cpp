@@ -69,7 +69,7 @@ TEST(ClothSequence, GltfRoundTripKeepsEveryFrame) {
   const ClothAnimation animation = RunAnimation(Hanging());
   const auto dir = ScratchDir("gltf");
   const auto path = dir / "cloth.glb";
-  WriteGltfSequence(animation, path);
+  WriteGltfSequence(ClothSequence(animation), path);
   const MeshSequence read = ReadGltfSequence(path);
   ASSERT_EQ(read.frames.size(), animation.frames.size());
   ASSERT_EQ(read.times.size(), animation.frames.size());
@@ -83,7 +83,7 @@ TEST(ClothSequence, GltfRoundTripKeepsEveryFrame) {
     }
   }
   // A .gltf (JSON, buffer embedded) reads back alike.
-  WriteGltfSequence(animation, dir / "cloth.gltf");
+  WriteGltfSequence(ClothSequence(animation), dir / "cloth.gltf");
   EXPECT_EQ(ReadGltfSequence(dir / "cloth.gltf").frames.back(), read.frames.back());
 }
 
@@ -102,10 +102,53 @@ TEST(ClothSequence, RefusesBrokenGltfNamingTheFile) {
   }
 }
 
+// One triangle whose positions and indices lie in "triangle.bin" beside the file.
+constexpr const char* kExternalBufferGltf = R"({
+  "asset": {"version": "2.0"},
+  "buffers": [{"uri": "triangle.bin", "byteLength": 48}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}]
+})";
+
+TEST(ClothSequence, UploadedBytesReadAsTheFileButOpenNoOtherFile) {
+  const ClothAnimation animation = RunAnimation(Hanging());
+  const auto dir = ScratchDir("bytes");
+  WriteGltfSequence(ClothSequence(animation), dir / "cloth.glb");
+  const MeshSequence bytes = ParseGltfSequence(ReadFile(dir / "cloth.glb"), "upload 1");
+  const MeshSequence file = ReadGltfSequence(dir / "cloth.glb");
+  EXPECT_EQ(bytes.frames, file.frames);
+  EXPECT_EQ(bytes.mesh.indices, file.mesh.indices);
+
+  // A .gltf naming a buffer file reads from its own directory, but as uploaded
+  // bytes it is refused: a server never opens a path a client names.
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const uint32_t indices[3] = {0, 1, 2};
+  std::string bin(reinterpret_cast<const char*>(positions), sizeof positions);
+  bin.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  WriteFileAtomic(dir / "triangle.bin", bin);
+  WriteFileAtomic(dir / "triangle.gltf", kExternalBufferGltf);
+  EXPECT_EQ(ReadGltfSequence(dir / "triangle.gltf").mesh.positions[1], glm::vec3(1, 0, 0));
+  // Run from that directory, where opening "triangle.bin" would succeed.
+  const auto cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  try {
+    ParseGltfSequence(kExternalBufferGltf, "upload 2");
+    ADD_FAILURE() << "an uploaded glTF read a file";
+  } catch (const Error& error) {
+    EXPECT_EQ(error.code(), ErrorCode::kInvalidArgument);
+    EXPECT_NE(std::string(error.what()).find("upload 2"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("the file 'triangle.bin'"), std::string::npos) << error.what();
+  }
+  std::filesystem::current_path(cwd);
+}
+
 TEST(ClothSequence, ObjFramesHoldTheClothAtEachFrame) {
   const ClothAnimation animation = RunAnimation(Hanging());
   const auto dir = ScratchDir("obj");
-  WriteObjSequence(animation, dir / "frames");
+  WriteObjSequence(ClothSequence(animation), dir / "frames");
   const TriangleMesh last = ParseObj(ReadFile(dir / "frames" / "frame_00010.obj"), "frame 10");
   ASSERT_EQ(last.positions.size(), 24u);
   EXPECT_EQ(last.triangle_count(), 30u);

@@ -2,10 +2,16 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
+
+#include "core/animate/cloth_sequence_io.h"
 #include "core/scene/camera.h"
+#include "core/scene/gltf_loader.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
+#include "core/util/file_io.h"
 
 namespace loom {
 namespace {
@@ -61,6 +67,47 @@ TEST(SceneGeometry, PlainObjectsNeedNoUvs) {
   EXPECT_EQ(meshes[0].mesh.uvs.size(), 3u);
   EXPECT_EQ(meshes[0].mesh.tangents.size(), 3u);
   EXPECT_EQ(meshes[0].report.zero_area_uv_triangles, 0u);
+}
+
+// The resolver's bytes in pieces of one byte each.
+MeshTextResolver Bytewise(std::string bytes) {
+  return [bytes](const v1::MeshRef&, const TextSink& consume) {
+    for (const char& c : bytes) consume(std::string_view(&c, 1));
+  };
+}
+
+TEST(SceneGeometry, GltfSequenceFramesAndObjsAreToldApartWhateverThePieces) {
+  MeshSequence sequence;
+  sequence.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  sequence.mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  sequence.mesh.indices = {0, 1, 2};
+  sequence.frames = {sequence.mesh.positions, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
+  sequence.times = {0.0f, 0.04f};
+  const auto path = std::filesystem::path(::testing::TempDir()) / "scene_geometry_test_sequence.glb";
+  animate::WriteGltfSequence(sequence, path);
+  const std::string glb = ReadFile(path);
+
+  const char* const json = R"({"objects": [{"mesh": {"gltf_path": "cloth.glb", "frame": %d}}],
+      "camera": {"position": {"x": 0, "y": -3, "z": 1}}})";
+  char spec[256];
+  std::snprintf(spec, sizeof spec, json, 1);
+  const auto frame1 = BuildSceneGeometry(Scene(spec), Bytewise(glb));
+  ASSERT_EQ(frame1[0].mesh.positions.size(), 3u);
+  EXPECT_EQ(frame1[0].mesh.positions[1], glm::vec3(1, 0, 1));
+  std::snprintf(spec, sizeof spec, json, 0);
+  EXPECT_EQ(BuildSceneGeometry(Scene(spec), Bytewise(glb))[0].mesh.positions[1], glm::vec3(1, 0, 0));
+  std::snprintf(spec, sizeof spec, json, 2);
+  try {
+    BuildSceneGeometry(Scene(spec), Bytewise(glb));
+    FAIL() << "frame 2 of 2 was read";
+  } catch (const Error& error) {
+    EXPECT_EQ(std::string(error.what()), "mesh scene.objects[0]: frame 2 of a sequence of 2 frame(s)");
+  }
+  // An OBJ shorter than the bytes that tell the formats apart, a byte at a time.
+  const auto obj = BuildSceneGeometry(Scene(R"({"objects": [{"mesh": {"obj_path": "t.obj"}}],
+      "camera": {"position": {"x": 0, "y": -3, "z": 1}}})"),
+                                      Bytewise(kUvlessTriangle));
+  EXPECT_EQ(obj[0].mesh.triangle_count(), 1u);
 }
 
 // The caps hold for the scene's objects together: repeating one mesh does not

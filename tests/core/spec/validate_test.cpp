@@ -91,14 +91,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "0.15 exceeds 0.08 (for a knit: thicker yarns jam where loops interlock)"},
         RuleCase{"RadiusNegative", R"({"woven": {}, "yarns": [{}, {"radius": -0.1}]})", "fabric.yarns[1].radius",
                  "-0.1 is not above 0"},
-        RuleCase{"TooManyPlies", R"({"knit": {}, "yarns": [{"plies": 9}]})", "fabric.yarns[0].plies",
-                 "9 exceeds 8"},
-        RuleCase{"TwistTooLarge", R"({"knit": {}, "yarns": [{"twist_degrees": 91}]})",
-                 "fabric.yarns[0].twist_degrees", "91 exceeds 90"},
+        RuleCase{"TooManyPlies", R"({"knit": {}, "yarns": [{"plies": 9}]})", "fabric.yarns[0].plies", "9 exceeds 8"},
+        RuleCase{"TwistTooLarge", R"({"knit": {}, "yarns": [{"twist_degrees": 91}]})", "fabric.yarns[0].twist_degrees",
+                 "91 exceeds 90"},
         RuleCase{"TwistTooNegative", R"({"knit": {}, "yarns": [{"twist_degrees": -91}]})",
                  "fabric.yarns[0].twist_degrees", "-91 is below -90"},
-        RuleCase{"FuzzTooLarge", R"({"knit": {}, "yarns": [{"fuzz": 1.5}]})", "fabric.yarns[0].fuzz",
-                 "1.5 exceeds 1"},
+        RuleCase{"FuzzTooLarge", R"({"knit": {}, "yarns": [{"fuzz": 1.5}]})", "fabric.yarns[0].fuzz", "1.5 exceeds 1"},
         RuleCase{"FuzzNegative", R"({"knit": {}, "yarns": [{"fuzz": -0.25}]})", "fabric.yarns[0].fuzz",
                  "-0.25 is below 0"},
         RuleCase{"DiffuseNegative", R"({"knit": {}, "yarns": [{"diffuse_albedo": {"r": -0.1}}]})",
@@ -109,10 +107,10 @@ INSTANTIATE_TEST_SUITE_P(
                  R"({"knit": {}, "yarns": [{"diffuse_albedo": {"r": 0.9, "g": 0.9, "b": 0.9},
                                             "specular_albedo": {"r": 0.1, "g": 0.2, "b": 0.1}}]})",
                  "fabric.yarns[0]", "diffuse_albedo.g + specular_albedo.g = 1.1 exceeds 1 (energy conservation)"},
-        RuleCase{"RoughnessTooLarge", R"({"knit": {}, "yarns": [{"roughness": 1.5}]})",
-                 "fabric.yarns[0].roughness", "1.5 exceeds 1"},
-        RuleCase{"RoughnessNegative", R"({"knit": {}, "yarns": [{"roughness": -1}]})",
-                 "fabric.yarns[0].roughness", "-1 is not above 0"},
+        RuleCase{"RoughnessTooLarge", R"({"knit": {}, "yarns": [{"roughness": 1.5}]})", "fabric.yarns[0].roughness",
+                 "1.5 exceeds 1"},
+        RuleCase{"RoughnessNegative", R"({"knit": {}, "yarns": [{"roughness": -1}]})", "fabric.yarns[0].roughness",
+                 "-1 is not above 0"},
         RuleCase{"HeightScaleTooLarge",
                  R"({"woven": {}, "yarns": [{"shading": "YARN_SHADING_MICROFLAKE", "height_scale": 3}]})",
                  "fabric.yarns[0].height_scale", "3 exceeds 2"},
@@ -152,8 +150,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "-0.5 is below 0"},
         RuleCase{"ColourPatternLongerThanTile", R"({"knit": {"wales": 2, "colour_pattern": [0, 0, 0]}})",
                  "fabric.knit.colour_pattern", "3 exceeds 2 (wales × courses)"},
-        RuleCase{"ColourPatternYarnIndex",
-                 R"({"knit": {"wales": 2, "colour_pattern": [0, 2]}, "yarns": [{}, {}]})",
+        RuleCase{"ColourPatternYarnIndex", R"({"knit": {"wales": 2, "colour_pattern": [0, 2]}, "yarns": [{}, {}]})",
                  "fabric.knit.colour_pattern[1]", "2 exceeds 1 (the last yarn index)"},
         // Woven.
         RuleCase{"PlainWithN", R"({"woven": {"n": 2}})", "fabric.woven.n",
@@ -174,27 +171,25 @@ INSTANTIATE_TEST_SUITE_P(
                  "fabric.woven.m", "4 is not a valid satin move for n = 8 (need 1 < m < 7 and gcd(m, 8) = 1)"},
         RuleCase{"SatinMoveTooLarge", R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 5, "m": 4}})",
                  "fabric.woven.m", "4 is not a valid satin move for n = 5 (need 1 < m < 4 and gcd(m, 5) = 1)"},
-        RuleCase{"SatinMoveOne", R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 7, "m": 1}})",
-                 "fabric.woven.m", "1 is not a valid satin move for n = 7 (need 1 < m < 6 and gcd(m, 7) = 1)"},
+        RuleCase{"SatinMoveOne", R"({"woven": {"pattern": "WEAVE_PATTERN_SATIN", "n": 7, "m": 1}})", "fabric.woven.m",
+                 "1 is not a valid satin move for n = 7 (need 1 < m < 6 and gcd(m, 7) = 1)"},
         RuleCase{"BasketNTooLarge", R"({"woven": {"pattern": "WEAVE_PATTERN_BASKET", "n": 9}})", "fabric.woven.n",
                  "9 exceeds 8"},
         RuleCase{"BasketWithM", R"({"woven": {"pattern": "WEAVE_PATTERN_BASKET", "m": 2}})", "fabric.woven.m",
                  "must be 0 for basket (only twill and satin weaves use it)"},
-        RuleCase{"InclinationTooLarge", R"({"woven": {"inclination_degrees": 61}})",
-                 "fabric.woven.inclination_degrees", "61 exceeds 60"},
-        RuleCase{"InclinationNegative", R"({"woven": {"inclination_degrees": -5}})",
-                 "fabric.woven.inclination_degrees", "-5 is below 0"},
+        RuleCase{"InclinationTooLarge", R"({"woven": {"inclination_degrees": 61}})", "fabric.woven.inclination_degrees",
+                 "61 exceeds 60"},
+        RuleCase{"InclinationNegative", R"({"woven": {"inclination_degrees": -5}})", "fabric.woven.inclination_degrees",
+                 "-5 is below 0"},
         RuleCase{"GapRatioAtLimit", R"({"woven": {"gap_ratio": 0.9}})", "fabric.woven.gap_ratio",
                  "0.9 is not below 0.9"},
-        RuleCase{"GapRatioNegative", R"({"woven": {"gap_ratio": -0.1}})", "fabric.woven.gap_ratio",
-                 "-0.1 is below 0"},
+        RuleCase{"GapRatioNegative", R"({"woven": {"gap_ratio": -0.1}})", "fabric.woven.gap_ratio", "-0.1 is below 0"},
         RuleCase{"WarpColoursTooLong", R"({"woven": {"warp_colours": )" + JsonArray(257, "0") + "}}",
                  "fabric.woven.warp_colours", "257 exceeds 256"},
         RuleCase{"WeftColourYarnIndex", R"({"woven": {"weft_colours": [0, 1]}})", "fabric.woven.weft_colours[1]",
                  "1 exceeds 0 (the last yarn index)"},
         // Every float is finite, every enum named, wherever it is.
-        RuleCase{"NaN", R"({"knit": {"loop_aspect": "NaN"}})", "fabric.knit.loop_aspect",
-                 "NaN is not a finite number"},
+        RuleCase{"NaN", R"({"knit": {"loop_aspect": "NaN"}})", "fabric.knit.loop_aspect", "NaN is not a finite number"},
         RuleCase{"InfinityInRepeatedNested", R"({"knit": {}, "yarns": [{}, {"diffuse_albedo": {"r": "Infinity"}}]})",
                  "fabric.yarns[1].diffuse_albedo.r", "Infinity is not a finite number"},
         RuleCase{"MinusInfinity", R"({"woven": {"gap_ratio": "-Infinity"}})", "fabric.woven.gap_ratio",
@@ -213,14 +208,12 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(
         RuleCase{"ResolutionTooLarge", R"({"spatial_resolution": 512})", "precompute.spatial_resolution",
                  "512 exceeds 256"},
-        RuleCase{"ResolutionTooSmall", R"({"spatial_resolution": 1})", "precompute.spatial_resolution",
-                 "1 is below 2"},
+        RuleCase{"ResolutionTooSmall", R"({"spatial_resolution": 1})", "precompute.spatial_resolution", "1 is below 2"},
         RuleCase{"ResolutionNotPowerOfTwo", R"({"spatial_resolution": 48})", "precompute.spatial_resolution",
                  "48 is not a power of two (mip levels halve the resolution)"},
         RuleCase{"TooManyViewDirections", R"({"view_directions": 4225})", "precompute.view_directions",
                  "4225 exceeds 4096"},
-        RuleCase{"TooFewLightDirections", R"({"light_directions": 1})", "precompute.light_directions",
-                 "1 is below 4"},
+        RuleCase{"TooFewLightDirections", R"({"light_directions": 1})", "precompute.light_directions", "1 is below 4"},
         RuleCase{"DirectionsNotSquare", R"({"spatial_resolution": 8, "light_directions": 4000})",
                  "precompute.light_directions", "4000 is not a perfect square (directions lie on a k×k grid)"},
         RuleCase{"TooManyRadianceSamples",
@@ -237,8 +230,7 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"TooManyLmIterations", R"({"max_lm_iterations": 1001})", "precompute.max_lm_iterations",
                  "1001 exceeds 1000"},
         RuleCase{"TooManyBounces", R"({"indirect_bounces": 3})", "precompute.indirect_bounces", "3 exceeds 2"},
-        RuleCase{"ColourComponentsWithIndirectLight", R"({"colour_components": true})",
-                 "precompute.colour_components",
+        RuleCase{"ColourComponentsWithIndirectLight", R"({"colour_components": true})", "precompute.colour_components",
                  "needs indirect_bounces 0, not 1: light inter-reflected between yarns is not linear in their albedos"},
         RuleCase{"TooMuchSupersampling", R"({"supersampling": 9})", "precompute.supersampling", "9 exceeds 8"},
         RuleCase{"NaNThreshold", R"({"lut_change_threshold": "NaN"})", "precompute.lut_change_threshold",
@@ -265,13 +257,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "width × height = 67108864 pixels exceeds 33554432"},
         RuleCase{"MsaaNotPowerOfTwo", R"({"msaa_samples": 3})", "render.msaa_samples",
                  "3 is not one of 1, 2, 4, 8, 16"},
-        RuleCase{"MsaaTooLarge", R"({"msaa_samples": 32})", "render.msaa_samples",
-                 "32 is not one of 1, 2, 4, 8, 16"},
+        RuleCase{"MsaaTooLarge", R"({"msaa_samples": 32})", "render.msaa_samples", "32 is not one of 1, 2, 4, 8, 16"},
         RuleCase{"ShadowMapNotPowerOfTwo", R"({"shadow_map_size": 3000})", "render.shadow_map_size",
                  "3000 is not a power of two"},
         RuleCase{"ShadowMapTooSmall", R"({"shadow_map_size": 128})", "render.shadow_map_size", "128 is below 256"},
-        RuleCase{"ShadowMapTooLarge", R"({"shadow_map_size": 16384})", "render.shadow_map_size",
-                 "16384 exceeds 8192"},
+        RuleCase{"ShadowMapTooLarge", R"({"shadow_map_size": 16384})", "render.shadow_map_size", "16384 exceeds 8192"},
         RuleCase{"TooManyReferenceSamples", R"({"reference_samples": 5000})", "render.reference_samples",
                  "5000 exceeds 4096"},
         RuleCase{"LodBiasTooFine", R"({"lod_bias": -4.5})", "render.lod_bias", "-4.5 is below -4"},
@@ -293,8 +283,8 @@ constexpr char kPlane[] = R"({"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}})";
 
 // A scene whose only object is a plane carrying `binding`.
 std::string BoundPlane(std::string_view binding) {
-  return SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": )" +
-                   std::string(binding) + "}]}");
+  return SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": )" + std::string(binding) +
+                   "}]}");
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -311,7 +301,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "scene.objects[0].name", "length 257 exceeds 256"},
         // Meshes.
         RuleCase{"NoMesh", SceneJson(R"({"objects": [{}]})"), "scene.objects[0].mesh",
-                 "one of builtin, obj_path or artifact is required"},
+                 "one of builtin, obj_path, gltf_path or artifact is required"},
         RuleCase{"UnspecifiedBuiltin",
                  SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_UNSPECIFIED"}}]})"),
                  "scene.objects[0].mesh.builtin", "BUILTIN_SHAPE_UNSPECIFIED is not a shape"},
@@ -320,6 +310,12 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"ObjPathTooLong",
                  SceneJson(R"({"objects": [{"mesh": {"obj_path": ")" + std::string(4097, 'p') + "\"}}]}"),
                  "scene.objects[0].mesh.obj_path", "length 4097 exceeds 4096"},
+        RuleCase{"EmptyGltfPath", SceneJson(R"({"objects": [{"mesh": {"gltf_path": ""}}]})"),
+                 "scene.objects[0].mesh.gltf_path", "is empty"},
+        RuleCase{"FramePastTheLimit", SceneJson(R"({"objects": [{"mesh": {"gltf_path": "a.glb", "frame": 3001}}]})"),
+                 "scene.objects[0].mesh.frame", "3001 exceeds 3000"},
+        RuleCase{"FrameOfAnObj", SceneJson(R"({"objects": [{"mesh": {"obj_path": "a.obj", "frame": 2}}]})"),
+                 "scene.objects[0].mesh.frame", "applies to glTF mesh sequences only"},
         RuleCase{"ArtifactNotHex", SceneJson(R"({"objects": [{"mesh": {"artifact": "abc"}}]})"),
                  "scene.objects[0].mesh.artifact", "is not a content hash (64 lowercase hex digits)"},
         RuleCase{"ArtifactUppercase",
@@ -329,12 +325,10 @@ INSTANTIATE_TEST_SUITE_P(
                  SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE", "segments": 2000}}]})"),
                  "scene.objects[0].mesh.segments", "2000 exceeds 1024"},
         // Objects.
-        RuleCase{"ZeroScaleComponent",
-                 SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+        RuleCase{"ZeroScaleComponent", SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
                                             "transform": {"scale": {"x": 1, "z": 1}}}]})"),
                  "scene.objects[0].transform.scale.y", "must not be zero (a zero scale flattens the object)"},
-        RuleCase{"BaseColourTooBright",
-                 SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
+        RuleCase{"BaseColourTooBright", SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"},
                                             "base_colour": {"r": 1.5}}]})"),
                  "scene.objects[0].base_colour.r", "1.5 exceeds 1"},
         RuleCase{"BindingWithoutFabric", BoundPlane("{}"), "scene.objects[0].fabric.fabric",
@@ -356,8 +350,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "170 is not below 170"},
         RuleCase{"FovNegative", SceneJson(R"({"camera": {"fov_y_degrees": -10}})"), "scene.camera.fov_y_degrees",
                  "-10 is not above 0"},
-        RuleCase{"OrthoHeightNegative", SceneJson(R"({"camera": {"ortho_height": -1}})"),
-                 "scene.camera.ortho_height", "-1 is not above 0"},
+        RuleCase{"OrthoHeightNegative", SceneJson(R"({"camera": {"ortho_height": -1}})"), "scene.camera.ortho_height",
+                 "-1 is not above 0"},
         RuleCase{"NearNegative", SceneJson(R"({"camera": {"near": -0.1}})"), "scene.camera.near",
                  "-0.1 is not above 0"},
         RuleCase{"FarBeforeNear", SceneJson(R"({"camera": {"near": 1, "far": 0.5}})"), "scene.camera.far",
@@ -378,13 +372,12 @@ INSTANTIATE_TEST_SUITE_P(
                  "-1 is below 0"},
         RuleCase{"RenderSettings", SceneJson(R"({"render": {"width": 9000}})"), "scene.render.width",
                  "9000 exceeds 8192"},
-        RuleCase{"NaNCameraPosition", SceneJson(R"({"camera": {"position": {"x": "NaN"}}})"),
-                 "scene.camera.position.x", "NaN is not a finite number"},
+        RuleCase{"NaNCameraPosition", SceneJson(R"({"camera": {"position": {"x": "NaN"}}})"), "scene.camera.position.x",
+                 "NaN is not a finite number"},
         RuleCase{"InfiniteLightIntensity",
                  SceneJson(R"({"lights": [{"direction": {"z": 1}, "intensity": "Infinity"}]})"),
                  "scene.lights[0].intensity", "Infinity is not a finite number"},
-        RuleCase{"NaNInBindingFabric",
-                 BoundPlane(R"({"fabric": {"woven": {}, "yarns": [{"roughness": "NaN"}]}})"),
+        RuleCase{"NaNInBindingFabric", BoundPlane(R"({"fabric": {"woven": {}, "yarns": [{"roughness": "NaN"}]}})"),
                  "scene.objects[0].fabric.fabric.yarns[0].roughness", "NaN is not a finite number"}),
     CaseName);
 
@@ -410,7 +403,8 @@ INSTANTIATE_TEST_SUITE_P(
         RuleCase{"ZeroLoops", AnimationJson(R"({"cloth": {"loops": 0}})"), "animation.cloth.loops", "0 is below 2"},
         RuleCase{"TooManyCourses", AnimationJson(R"({"cloth": {"courses": 5000}})"), "animation.cloth.courses",
                  "5000 exceeds 2048"},
-        RuleCase{"TooManyLoops", AnimationJson(R"({"cloth": {"loops": 1024, "courses": 1024}, "duration_seconds": 0.04})"),
+        RuleCase{"TooManyLoops",
+                 AnimationJson(R"({"cloth": {"loops": 1024, "courses": 1024}, "duration_seconds": 0.04})"),
                  "animation.cloth.courses", "1048576 exceeds 262144 (loops × courses)"},
         RuleCase{"NegativeSpacing", AnimationJson(R"({"cloth": {"wale_spacing": -1}})"), "animation.cloth.wale_spacing",
                  "-1 is not above 0"},
@@ -422,8 +416,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "-1 is not above 0"},
         RuleCase{"NoDuration", AnimationJson(R"({"duration_seconds": null})"), "animation.duration_seconds",
                  "0 is not above 0"},
-        RuleCase{"LongDuration", AnimationJson(R"({"duration_seconds": 700, "frames_per_second": 1})"), "animation.duration_seconds",
-                 "700 exceeds 600"},
+        RuleCase{"LongDuration", AnimationJson(R"({"duration_seconds": 700, "frames_per_second": 1})"),
+                 "animation.duration_seconds", "700 exceeds 600"},
         RuleCase{"NaNDuration", AnimationJson(R"({"duration_seconds": "NaN"})"), "animation.duration_seconds",
                  "NaN is not a finite number"},
         RuleCase{"FastFrames", AnimationJson(R"({"frames_per_second": 500})"), "animation.frames_per_second",
@@ -449,8 +443,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "animation.pins[0].motion[0].end_seconds", "0.25 is below 0.5 (start_seconds)"},
         RuleCase{"NoShape", AnimationJson(R"({"colliders": [{}]})"), "animation.colliders[0]",
                  "names no plane, sphere or box"},
-        RuleCase{"FlatSphere", AnimationJson(R"({"colliders": [{"sphere": {}}]})"), "animation.colliders[0].sphere.radius",
-                 "0 is not above 0"},
+        RuleCase{"FlatSphere", AnimationJson(R"({"colliders": [{"sphere": {}}]})"),
+                 "animation.colliders[0].sphere.radius", "0 is not above 0"},
         RuleCase{"PlaneWithoutNormal", AnimationJson(R"({"colliders": [{"plane": {}}]})"),
                  "animation.colliders[0].plane.normal", "is zero"},
         RuleCase{"HugeBox", AnimationJson(R"({"colliders": [{"box": {"half_extent": {"x": 1, "y": 1, "z": 20000}}}]})"),
@@ -544,7 +538,8 @@ TEST(Validate, LumisliceRaysAPixelFitTheFrameLimits) {
   EXPECT_EQ(LumisliceRayGrid(4), 2u);
   EXPECT_EQ(LumisliceRayGrid(8), 3u);
   EXPECT_EQ(LumisliceRayGrid(16), 4u);
-  const std::string cloth = R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": {"fabric": {"knit": {}}}}],
+  const std::string cloth =
+      R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}, "fabric": {"fabric": {"knit": {}}}}],
       "render": {"method": "RENDER_METHOD_LUMISLICE", )";
   EXPECT_EQ(FormatIssues(ValidateJson<v1::SceneSpec>(
                 SceneJson(cloth + R"("width": 2048, "height": 1024, "msaa_samples": 16}})"), "scene")),
@@ -576,7 +571,8 @@ TEST(Validate, ReportsEveryProblemAtOnce) {
     "knit": {"pattern": "KNIT_PATTERN_GARTER", "courses": 3, "loop_aspect": 3},
     "yarns": [{"radius": 0.7, "diffuse_albedo": {"r": 1.2}, "specular_albedo": {}},
               {"plies": 9, "roughness": "NaN"}]
-  })", "fabric");
+  })",
+                                                               "fabric");
   EXPECT_EQ(issues.size(), 7u) << FormatIssues(issues);
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[1].roughness", "NaN is not a finite number"));
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0].radius",
@@ -585,8 +581,8 @@ TEST(Validate, ReportsEveryProblemAtOnce) {
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[0]",
                        "diffuse_albedo.r + specular_albedo.r = 1.2 exceeds 1 (energy conservation)"));
   EXPECT_TRUE(HasIssue(issues, "fabric.yarns[1].plies", "9 exceeds 8"));
-  EXPECT_TRUE(HasIssue(issues, "fabric.knit.courses",
-                       "3 is not a multiple of 2 (the garter pattern repeats every 2 courses)"));
+  EXPECT_TRUE(
+      HasIssue(issues, "fabric.knit.courses", "3 is not a multiple of 2 (the garter pattern repeats every 2 courses)"));
   EXPECT_TRUE(HasIssue(issues, "fabric.knit.loop_aspect", "3 exceeds 1.5"));
 }
 
@@ -735,8 +731,8 @@ TEST(Defaults, WovenFabric) {
 }
 
 TEST(Defaults, ExplicitAlbedoIsKept) {
-  const v1::FabricSpec fabric = WithDefaults(
-      ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"specular_albedo": {}}]})", "fabric"));
+  const v1::FabricSpec fabric =
+      WithDefaults(ParseSpecJson<v1::FabricSpec>(R"({"knit": {}, "yarns": [{"specular_albedo": {}}]})", "fabric"));
   EXPECT_EQ(fabric.yarns(0).specular_albedo().r(), 0.0f);  // present: black is a real value
 }
 
@@ -780,11 +776,11 @@ TEST(Defaults, LumisliceTakesOneRayAPixel) {
 }
 
 TEST(Defaults, Scene) {
-  const v1::SceneSpec scene = WithDefaults(ParseSpecJson<v1::SceneSpec>(
-      SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}},
+  const v1::SceneSpec scene =
+      WithDefaults(ParseSpecJson<v1::SceneSpec>(SceneJson(R"({"objects": [{"mesh": {"builtin": "BUILTIN_SHAPE_PLANE"}},
                                 {"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE"}, "fabric": {"fabric": {"woven": {}}}}],
                     "lights": [{}]})"),
-      "scene"));
+                                                "scene"));
   EXPECT_FALSE(scene.objects(0).has_fabric());
   EXPECT_EQ(scene.objects(0).transform().scale().y(), 1.0f);
   const v1::FabricBinding& binding = scene.objects(1).fabric();
