@@ -82,8 +82,7 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
 }
 
 grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
-  return Guard(*context, state_.client_token, "GetJob",
-               [&] { *response = state_.queue.Get(RequireJobId(request->job_id())); });
+  return Guard(*context, state_.client_token, "GetJob", [&] { *response = state_.queue.Get(RequireJobId(request->job_id())); });
 }
 
 grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
@@ -193,7 +192,7 @@ grpc::Status JobService::DeleteJobs(grpc::ServerContext* context, const v1::Dele
     const std::vector<v1::Job> deleted = state_.queue.Delete(RequireJobIds(request->job_ids()));
     for (const v1::Job& job : deleted) {
       state_.artifacts.UnpinAll(JobPinOwner(job.id()));
-      if (!KeepsResults(job.kind())) continue;
+      if (!KeepsResults(job.kind())) continue;  // a precompute's results are the cache's
       state_.artifacts.UnpinAll(JobResultPinOwner(job.id()));
       for (const std::string& hash : job.result_artifacts()) {
         try {
@@ -230,8 +229,8 @@ grpc::Status JobService::ListFabrics(grpc::ServerContext* context, const v1::Lis
 
 std::string JobService::ResolveFabricKey(const std::string& key_or_prefix) {
   if (key_or_prefix.size() < kMinKeyPrefix) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "fabric_key: '" + key_or_prefix + "' is shorter than " + std::to_string(kMinKeyPrefix) + " hex digits");
+    throw Error(ErrorCode::kInvalidArgument, "fabric_key: '" + key_or_prefix + "' is shorter than " +
+                                                 std::to_string(kMinKeyPrefix) + " hex digits");
   }
   std::vector<std::string> matches;
   for (const FabricEntry& entry : state_.cache.List()) {
@@ -239,8 +238,8 @@ std::string JobService::ResolveFabricKey(const std::string& key_or_prefix) {
   }
   if (matches.empty()) throw Error(ErrorCode::kNotFound, "fabric_key: no cached fabric " + key_or_prefix);
   if (matches.size() > 1) {
-    throw Error(ErrorCode::kInvalidArgument,
-                "fabric_key: prefix " + key_or_prefix + " matches " + std::to_string(matches.size()) + " fabrics");
+    throw Error(ErrorCode::kInvalidArgument, "fabric_key: prefix " + key_or_prefix + " matches " +
+                                                 std::to_string(matches.size()) + " fabrics");
   }
   return matches.front();
 }
@@ -271,10 +270,8 @@ grpc::Status JobService::PinFabric(grpc::ServerContext* context, const v1::PinFa
                                    v1::PinFabricResponse* response) {
   return Guard(*context, state_.client_token, "PinFabric", [&] {
     const std::string key = ResolveFabricKey(request->fabric_key());
-    if (request->pinned())
-      state_.cache.Pin(key);
-    else
-      state_.cache.Unpin(key);
+    if (request->pinned()) state_.cache.Pin(key);
+    else state_.cache.Unpin(key);
     for (const FabricEntry& entry : state_.cache.List()) {
       if (entry.key == key) *response->mutable_fabric() = ToCachedFabric(entry);
     }
@@ -286,8 +283,8 @@ grpc::Status JobService::FindMissingArtifacts(grpc::ServerContext* context,
                                               v1::FindMissingArtifactsResponse* response) {
   return Guard(*context, state_.client_token, "FindMissingArtifacts", [&] {
     if (request->sha256_size() > kMaxFindMissingHashes) {
-      throw Error(ErrorCode::kInvalidArgument, "sha256: " + std::to_string(request->sha256_size()) + " hashes exceed " +
-                                                   std::to_string(kMaxFindMissingHashes) +
+      throw Error(ErrorCode::kInvalidArgument, "sha256: " + std::to_string(request->sha256_size()) +
+                                                   " hashes exceed " + std::to_string(kMaxFindMissingHashes) +
                                                    " per call (ask in batches)");
     }
     std::vector<std::string> hashes;

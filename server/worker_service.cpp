@@ -62,8 +62,8 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     // A restarted server has forgotten its workers: they register again (NOT_FOUND
     // tells them to, worker/worker_loop.h).
     if (!state_.workers.Known(request->worker_id())) {
-      throw Error(ErrorCode::kNotFound,
-                  "worker_id: " + request->worker_id() + " is not registered with this server (RegisterWorker first)");
+      throw Error(ErrorCode::kNotFound, "worker_id: " + request->worker_id() +
+                                            " is not registered with this server (RegisterWorker first)");
     }
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::milliseconds(std::min(request->wait_ms(), kMaxLeaseWaitMs));
@@ -83,7 +83,8 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
         continue;
       }
       if (lease) {
-        spdlog::info("job {}: leased by {} (attempt {})", lease->job.id(), request->worker_id(), lease->job.attempts());
+        spdlog::info("job {}: leased by {} (attempt {})", lease->job.id(), request->worker_id(),
+                     lease->job.attempts());
         *response->mutable_job() = std::move(lease->job);
         response->set_fencing_token(lease->token);
         response->set_lease_deadline_ms(lease->deadline_ms);
@@ -100,15 +101,9 @@ grpc::Status WorkerService::Heartbeat(grpc::ServerContext* context, const v1::He
     const HeartbeatStatus status = state_.queue.Heartbeat(request->job_id(), request->fencing_token(),
                                                           request->progress().fraction(), request->progress().stage());
     switch (status) {
-      case HeartbeatStatus::kOk:
-        response->set_action(v1::HeartbeatResponse::ACTION_CONTINUE);
-        break;
-      case HeartbeatStatus::kCancelRequested:
-        response->set_action(v1::HeartbeatResponse::ACTION_CANCEL);
-        break;
-      case HeartbeatStatus::kStaleToken:
-        response->set_action(v1::HeartbeatResponse::ACTION_LEASE_LOST);
-        return;
+      case HeartbeatStatus::kOk: response->set_action(v1::HeartbeatResponse::ACTION_CONTINUE); break;
+      case HeartbeatStatus::kCancelRequested: response->set_action(v1::HeartbeatResponse::ACTION_CANCEL); break;
+      case HeartbeatStatus::kStaleToken: response->set_action(v1::HeartbeatResponse::ACTION_LEASE_LOST); return;
     }
     AppendLog(state_.queue, request->job_id(), request->log_lines());
     response->set_lease_deadline_ms(state_.clock.NowMs() + state_.queue.options().lease_duration_ms);
@@ -119,14 +114,16 @@ grpc::Status WorkerService::UploadArtifact(grpc::ServerContext* context,
                                            grpc::ServerReader<v1::UploadArtifactRequest>* reader,
                                            v1::UploadArtifactResponse* response) {
   return Guard(*context, state_.worker_token, "UploadArtifact", [&] {
-    *response->mutable_artifact() = ReceiveUpload(*reader, state_.artifacts, kMaxWorkerUploadBytes,
-                                                  [this](const v1::UploadArtifactRequest::Header& header) {
-                                                    state_.queue.CheckLease(header.job_id(), header.fencing_token());
-                                                  });
+    *response->mutable_artifact() = ReceiveUpload(
+        *reader, state_.artifacts, kMaxWorkerUploadBytes,
+        [this](const v1::UploadArtifactRequest::Header& header) {
+          state_.queue.CheckLease(header.job_id(), header.fencing_token());
+        });
   });
 }
 
-grpc::Status WorkerService::DownloadArtifact(grpc::ServerContext* context, const v1::DownloadArtifactRequest* request,
+grpc::Status WorkerService::DownloadArtifact(grpc::ServerContext* context,
+                                             const v1::DownloadArtifactRequest* request,
                                              grpc::ServerWriter<v1::ArtifactChunk>* writer) {
   return Guard(*context, state_.worker_token, "DownloadArtifact",
                [&] { SendStoredArtifact(state_.artifacts, request->sha256(), *writer); });

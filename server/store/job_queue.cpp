@@ -230,7 +230,8 @@ class JobQueue::Txn {
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
     : clock_(clock), options_(options), db_(std::make_unique<SqliteDb>(data_dir / "jobs.db")) {
   if (options_.default_max_attempts == 0 || options_.default_max_attempts > kMaxAttemptsCap ||
-      options_.blocklist_after == 0 || options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0 ||
+      options_.blocklist_after == 0 ||
+      options_.lease_duration_ms <= 0 || options_.stuck_after_ms <= 0 ||
       options_.log_keep_bytes < static_cast<int64_t>(kMaxLogLineBytes)) {
     throw Error(ErrorCode::kInvalidArgument,
                 "job queue options: lease and stuck times must be positive, default_max_attempts in [1, 100], "
@@ -278,9 +279,9 @@ JobQueue::Row JobQueue::RequireRow(const std::string& id) const {
 JobQueue::Row JobQueue::RequireLease(const std::string& id, uint64_t token) const {
   Row row = RequireRow(id);
   if (!row.leased() || row.lease_token != token) {
-    throw Error(ErrorCode::kFailedPrecondition, "job " + id + ": lease token " + std::to_string(token) +
-                                                    " is stale (the job is " + StateName(row.state) +
-                                                    (row.leased() ? " under a newer lease" : "") + ")");
+    throw Error(ErrorCode::kFailedPrecondition,
+                "job " + id + ": lease token " + std::to_string(token) + " is stale (the job is " +
+                    StateName(row.state) + (row.leased() ? " under a newer lease" : "") + ")");
   }
   return row;
 }
@@ -309,7 +310,8 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   }
   job.set_error(row.error);
   job.set_client_request_id(row.client_request_id);
-  for (auto deps = db_->Query("SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY rowid", row.seq); deps.Step();) {
+  for (auto deps = db_->Query("SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY rowid", row.seq);
+       deps.Step();) {
     job.add_depends_on(JobId(deps.Int(0)));
   }
   job.set_fabric_key(row.fabric_key);
@@ -324,20 +326,22 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   return job;
 }
 
-void JobQueue::Touch(int64_t seq) { db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", ++version_, seq); }
+void JobQueue::Touch(int64_t seq) {
+  db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", ++version_, seq);
+}
 
 void JobQueue::WriteLog(int64_t seq, const std::string& line) {
-  const std::string text =
-      line.size() <= kMaxLogLineBytes
-          ? line
-          : line.substr(0, kMaxLogLineBytes) + " … (" + std::to_string(line.size() - kMaxLogLineBytes) + " bytes cut)";
+  const std::string text = line.size() <= kMaxLogLineBytes
+                               ? line
+                               : line.substr(0, kMaxLogLineBytes) + " … (" +
+                                     std::to_string(line.size() - kMaxLogLineBytes) + " bytes cut)";
   db_->Run(
       "INSERT INTO job_log (job_seq, line, text) "
       "VALUES (?1, (SELECT COALESCE(MAX(line) + 1, 0) FROM job_log WHERE job_seq = ?1), ?2)",
       seq, text);
   Touch(seq);
-  auto total_query =
-      db_->Query("SELECT COALESCE(SUM(LENGTH(CAST(text AS BLOB))), 0) FROM job_log WHERE job_seq = ?", seq);
+  auto total_query = db_->Query("SELECT COALESCE(SUM(LENGTH(CAST(text AS BLOB))), 0) FROM job_log WHERE job_seq = ?",
+                                seq);
   total_query.Step();
   int64_t total = total_query.Int(0);
   const int64_t keep = options_.log_keep_bytes;
@@ -345,10 +349,10 @@ void JobQueue::WriteLog(int64_t seq, const std::string& line) {
   // Over the cap: the head (the first lines within `keep` bytes) stays; the oldest
   // lines after it go until the rest fits in `keep` bytes too.
   int64_t head_bytes = 0;
-  int64_t head_end = -1;                          // the last line of the head
+  int64_t head_end = -1;  // the last line of the head
   std::vector<std::pair<int64_t, int64_t>> tail;  // (line, bytes), oldest first
-  for (auto rows =
-           db_->Query("SELECT line, LENGTH(CAST(text AS BLOB)) FROM job_log WHERE job_seq = ? ORDER BY line", seq);
+  for (auto rows = db_->Query("SELECT line, LENGTH(CAST(text AS BLOB)) FROM job_log WHERE job_seq = ? ORDER BY line",
+                              seq);
        rows.Step();) {
     if (tail.empty() && rows.Int(0) == head_end + 1 && head_bytes + rows.Int(1) <= keep) {
       head_bytes += rows.Int(1);
@@ -398,7 +402,8 @@ v1::Job JobQueue::InsertJob(const v1::Job& job, int64_t now_ms) {
 
 // A lease ended without success: requeue, or end the job if it cannot go on.
 void JobQueue::EndAttempt(const Row& row, const std::string& error, int64_t now_ms) {
-  const std::string attempt = "attempt " + std::to_string(row.attempts) + " of " + std::to_string(row.max_attempts);
+  const std::string attempt =
+      "attempt " + std::to_string(row.attempts) + " of " + std::to_string(row.max_attempts);
   if (row.cancel_requested) {
     Finish(row, v1::JOB_STATE_CANCELLED, "cancelled by request", now_ms);
   } else if (row.attempts >= row.max_attempts) {
@@ -418,8 +423,8 @@ void JobQueue::NoteWorkerFailureLocked(const Row& row) {
       "INSERT INTO job_failed_workers (job_seq, worker_id, failures) VALUES (?, ?, 1) "
       "ON CONFLICT (job_seq, worker_id) DO UPDATE SET failures = failures + 1",
       row.seq, row.worker_id);
-  auto count =
-      db_->Query("SELECT failures FROM job_failed_workers WHERE job_seq = ? AND worker_id = ?", row.seq, row.worker_id);
+  auto count = db_->Query("SELECT failures FROM job_failed_workers WHERE job_seq = ? AND worker_id = ?", row.seq,
+                          row.worker_id);
   count.Step();
   if (count.Int(0) == options_.blocklist_after) {
     WriteLog(row.seq, "[queue] worker " + row.worker_id + " is blocklisted for this job after " +
@@ -452,16 +457,17 @@ void JobQueue::FailDependants(int64_t dependency_seq, const std::string& error, 
 // --- Submitting -----------------------------------------------------------------------
 
 void JobQueue::CheckSubmission(const v1::Job& job) {
-  const bool payload_matches = (job.kind() == v1::JOB_KIND_PRECOMPUTE && job.has_precompute()) ||
-                               (job.kind() == v1::JOB_KIND_RENDER && job.has_render()) ||
-                               (job.kind() == v1::JOB_KIND_ANIMATE && job.has_animate());
+  const bool payload_matches =
+      (job.kind() == v1::JOB_KIND_PRECOMPUTE && job.has_precompute()) ||
+      (job.kind() == v1::JOB_KIND_RENDER && job.has_render()) ||
+      (job.kind() == v1::JOB_KIND_ANIMATE && job.has_animate());
   if (!payload_matches) {
     throw Error(ErrorCode::kInvalidArgument, "job.kind " + v1::JobKind_Name(job.kind()) +
                                                  " needs the matching payload (precompute, render or animate)");
   }
   if (job.max_attempts() > kMaxAttemptsCap) {
-    throw Error(ErrorCode::kInvalidArgument, "job.max_attempts: " + std::to_string(job.max_attempts()) + " exceeds " +
-                                                 std::to_string(kMaxAttemptsCap));
+    throw Error(ErrorCode::kInvalidArgument,
+                "job.max_attempts: " + std::to_string(job.max_attempts()) + " exceeds " + std::to_string(kMaxAttemptsCap));
   }
 }
 
@@ -510,10 +516,10 @@ v1::Job JobQueue::SubmitPrecomputeOnce(const v1::PrecomputeJob& precompute, cons
                                        int32_t priority) {
   CheckArtifactHash(fabric_key, "fabric_key");
   Txn txn(*this);
-  auto active =
-      db_->Query("SELECT seq FROM jobs WHERE fabric_key = ? AND kind = ? AND state IN (?, ?, ?) ORDER BY seq LIMIT 1",
-                 fabric_key, static_cast<int>(v1::JOB_KIND_PRECOMPUTE), static_cast<int>(v1::JOB_STATE_QUEUED),
-                 static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING));
+  auto active = db_->Query(
+      "SELECT seq FROM jobs WHERE fabric_key = ? AND kind = ? AND state IN (?, ?, ?) ORDER BY seq LIMIT 1",
+      fabric_key, static_cast<int>(v1::JOB_KIND_PRECOMPUTE), static_cast<int>(v1::JOB_STATE_QUEUED),
+      static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING));
   if (active.Step()) {
     const int64_t seq = active.Int(0);
     db_->Run("UPDATE jobs SET priority = ? WHERE seq = ? AND state = ? AND priority < ?", priority, seq,
@@ -556,8 +562,8 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
   if (!next.Step()) return std::nullopt;
   const int64_t seq = next.Int(0);
   const int64_t now = clock_.NowMs();
-  auto lease = db_->Query("INSERT INTO leases (job_seq, worker_id, leased_ms) VALUES (?, ?, ?) RETURNING token", seq,
-                          worker_id, now);
+  auto lease = db_->Query("INSERT INTO leases (job_seq, worker_id, leased_ms) VALUES (?, ?, ?) RETURNING token",
+                          seq, worker_id, now);
   lease.Step();
   const auto token = static_cast<uint64_t>(lease.Int(0));
   lease.Run();
@@ -607,7 +613,8 @@ std::optional<JobLease> JobQueue::LeaseWait(const std::string& worker_id,
   }
 }
 
-HeartbeatStatus JobQueue::Heartbeat(const std::string& id, uint64_t token, double fraction, const std::string& stage) {
+HeartbeatStatus JobQueue::Heartbeat(const std::string& id, uint64_t token, double fraction,
+                                    const std::string& stage) {
   if (!(fraction >= 0 && fraction <= 1)) {
     throw Error(ErrorCode::kInvalidArgument, "progress fraction " + std::to_string(fraction) + " is not in [0, 1]");
   }
@@ -663,8 +670,8 @@ v1::Job JobQueue::Fail(const std::string& id, uint64_t token, const std::string&
   const std::string message =
       (error.empty() ? "worker reported a failure without a message" : error) + " (worker " + row.worker_id + ")";
   if (failure == Failure::kPermanent && !row.cancel_requested) {
-    WriteLog(row.seq, "[queue] attempt " + std::to_string(row.attempts) +
-                          " failed permanently (bad input, not retried): " + message);
+    WriteLog(row.seq, "[queue] attempt " + std::to_string(row.attempts) + " failed permanently (bad input, not retried): " +
+                          message);
     Finish(row, v1::JOB_STATE_FAILED, message, now);
   } else {
     EndAttempt(row, message, now);
@@ -702,10 +709,10 @@ v1::Job JobQueue::HandBack(const std::string& id, uint64_t token, const std::str
 int JobQueue::RequeueExpired() {
   Txn txn(*this);
   const int64_t now = clock_.NowMs();
-  const auto ended =
-      Row::Select(*db_, "WHERE state IN (?, ?) AND (lease_deadline_ms <= ? OR progress_moved_ms <= ?) ORDER BY seq",
-                  static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING), now,
-                  now - options_.stuck_after_ms);
+  const auto ended = Row::Select(
+      *db_, "WHERE state IN (?, ?) AND (lease_deadline_ms <= ? OR progress_moved_ms <= ?) ORDER BY seq",
+      static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING), now,
+      now - options_.stuck_after_ms);
   for (const Row& row : ended) {
     const std::string reason =
         row.lease_deadline_ms <= now
@@ -767,7 +774,8 @@ void JobQueue::RetryLocked(const Row& row, std::vector<int64_t>& retried) {
       "results = '', run_ms = 0 WHERE seq = ?",
       static_cast<int>(v1::JOB_STATE_QUEUED), row.seq);
   db_->Run("DELETE FROM job_failed_workers WHERE job_seq = ?", row.seq);
-  WriteLog(row.seq, "[queue] retried by request (was " + StateName(row.state) + "); attempts and blocklist reset");
+  WriteLog(row.seq, "[queue] retried by request (was " + StateName(row.state) +
+                        "); attempts and blocklist reset");
 }
 
 std::vector<v1::Job> JobQueue::Retry(const std::vector<std::string>& ids) {
@@ -847,8 +855,7 @@ JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string
   std::optional<int64_t> before;
   if (!page_token.empty()) {
     before = ParseJobId(page_token);
-    if (!before)
-      throw Error(ErrorCode::kInvalidArgument, "page_token '" + page_token + "' is not one this server gave");
+    if (!before) throw Error(ErrorCode::kInvalidArgument, "page_token '" + page_token + "' is not one this server gave");
   }
   const auto placeholders = [](size_t n) {
     std::string text;
@@ -908,8 +915,7 @@ void JobQueue::AppendLog(const std::string& id, const std::string& line) {
 }
 
 std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line, int64_t* next_line) const {
-  if (from_line < 0)
-    throw Error(ErrorCode::kInvalidArgument, "from_line " + std::to_string(from_line) + " is negative");
+  if (from_line < 0) throw Error(ErrorCode::kInvalidArgument, "from_line " + std::to_string(from_line) + " is negative");
   std::lock_guard lock(mu_);
   std::vector<std::string> lines;
   int64_t expected = from_line;
@@ -918,8 +924,7 @@ std::vector<std::string> JobQueue::Log(const std::string& id, int64_t from_line,
        query.Step();) {
     const int64_t line = query.Int(0);
     if (line > expected) {
-      lines.push_back("… " + std::to_string(line - expected) +
-                      " log line(s) truncated (a job's log keeps its first and last " +
+      lines.push_back("… " + std::to_string(line - expected) + " log line(s) truncated (a job's log keeps its first and last " +
                       std::to_string(options_.log_keep_bytes >> 10) + " KiB) …");
     }
     lines.push_back(query.Text(1));
