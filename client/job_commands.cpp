@@ -1,15 +1,20 @@
-// loom fabric precompute | render | animate | jobs list|show|watch|cancel|log|priority|retry|rm
+// loom fabric precompute | render [--frames A..B] | animate | jobs list|show|watch|cancel|log|priority|retry|rm
 
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "client/client_command.h"
+#include "client/frame_range.h"
 #include "core/animate/cloth_sequence_io.h"
 #include "core/image/image.h"
+#include "core/spec/limits.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
+#include "core/util/progress_bar.h"
+#include "core/util/subprocess.h"
 #include "loom/v1/job.pb.h"
 #include "loom/v1/job_state.h"
 
@@ -56,6 +61,15 @@ struct SubmitOptions {
   }
 };
 
+// Follows the precomputes a submission made or joined (each once) to their end.
+void WaitForDependencies(ClientFlags& flags, const google::protobuf::RepeatedPtrField<v1::Job>& dependencies) {
+  std::set<std::string> seen;
+  for (const v1::Job& dependency : dependencies) {
+    if (IsTerminal(dependency.state()) || !seen.insert(dependency.id()).second) continue;
+    WaitForJob(flags, dependency.id(), "precompute " + dependency.fabric_key().substr(0, 8), false);
+  }
+}
+
 // Submit output: the job (JSON, or its id on stdout) and, when waiting, every
 // dependency and then the job followed to the end.
 v1::Job SubmitAndWait(ClientFlags& flags, const v1::SubmitJobRequest& request, const SubmitOptions& options,
@@ -66,10 +80,7 @@ v1::Job SubmitAndWait(ClientFlags& flags, const v1::SubmitJobRequest& request, c
   else
     std::fprintf(stderr, "submitted job %s\n", response.job().id().c_str());
   if (options.no_wait) return response.job();
-  for (const v1::Job& dependency : response.dependencies()) {
-    if (IsTerminal(dependency.state())) continue;
-    WaitForJob(flags, dependency.id(), "precompute " + dependency.fabric_key().substr(0, 8), false);
-  }
+  WaitForDependencies(flags, response.dependencies());
   return WaitForJob(flags, response.job().id(), label, false);
 }
 
@@ -117,20 +128,112 @@ std::string DownloadResult(ClientFlags& flags, const v1::Job& done) {
   return flags.Connect().Download(done.result_artifacts(0));
 }
 
+// loom render --frames: the range's jobs submitted, then followed in frame order
+// (progress over the whole range), each frame written as it ends; a failed frame
+// is reported and the rest still gathered. The MP4 is made once every frame is in.
+struct FrameRangeOptions {
+  std::string frames, mp4;
+  float fps = 25;
+};
+
+int RenderFrameRange(ClientFlags& flags, const v1::SubmitJobRequest& request, const std::vector<int>& sequence_objects,
+                     const std::string& out, const FrameRangeOptions& options, const SubmitOptions& submit) {
+  const FrameRange range = ParseFrameRange(options.frames);
+  const std::vector<v1::SubmitJobResponse> responses =
+      SubmitFrameRange(flags.Connect(), request, sequence_objects, range);
+  if (!flags.json) std::fprintf(stderr, "submitted %u frame job(s), frames %s\n", range.size(), options.frames.c_str());
+  if (submit.no_wait || flags.json) {
+    for (const v1::SubmitJobResponse& response : responses) {
+      if (flags.json)
+        PrintJson(response);
+      else
+        std::printf("%s\n", response.job().id().c_str());
+    }
+  }
+  if (submit.no_wait) return 0;
+
+  google::protobuf::RepeatedPtrField<v1::Job> dependencies;
+  for (const v1::SubmitJobResponse& response : responses) dependencies.MergeFrom(response.dependencies());
+  WaitForDependencies(flags, dependencies);
+  std::vector<std::string> failed;
+  {
+    ProgressBar bar("render frames " + options.frames);
+    for (uint32_t i = 0; i < range.size(); ++i) {
+      const uint32_t frame = range.first + i;
+      const v1::Job done = flags.Connect().Watch(responses[i].job().id(), [&](const v1::JobEvent& event) {
+        bar.Update((i + event.job().progress().fraction()) / range.size(), "frame " + std::to_string(frame));
+      });
+      if (flags.json) PrintJson(done);
+      if (done.state() != v1::JOB_STATE_SUCCEEDED) {
+        failed.push_back("frame " + std::to_string(frame) + " (job " + done.id() + ") " +
+                         (done.state() == v1::JOB_STATE_CANCELLED ? "was cancelled" : "failed: " + done.error()));
+        continue;
+      }
+      WriteFileAtomic(FramePath(out, frame), DownloadResult(flags, done));
+    }
+  }
+  for (const std::string& failure : failed) std::fprintf(stderr, "loom: %s\n", failure.c_str());
+  if (!failed.empty()) {
+    std::fprintf(stderr, "loom: %zu of %u frame(s) did not render; retry their jobs (loom jobs retry) and run the "
+                 "same command with the same --request-id to gather them\n", failed.size(), range.size());
+    return kJobFailedExit;
+  }
+  if (!flags.json) std::printf("wrote %u frame(s) %s\n", range.size(), out.c_str());
+  if (options.mp4.empty()) return 0;
+  // libx264 in yuv420p wants even sides: an odd frame gets a one-pixel border.
+  RunProgram("ffmpeg",
+             {"-y", "-loglevel", "error", "-framerate", std::to_string(options.fps), "-start_number",
+              std::to_string(range.first), "-i", out, "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264",
+              "-pix_fmt", "yuv420p", options.mp4},
+             "install the Debian package ffmpeg (scripts/setup.sh)");
+  if (!flags.json) std::printf("wrote %s\n", options.mp4.c_str());
+  return 0;
+}
+
+// The checks a frame range's flags get before anything is uploaded or submitted.
+void CheckFrameRangeFlags(const std::string& out, ImageFileFormat format, const FrameRangeOptions& options) {
+  if (options.frames.empty()) {
+    if (!options.mp4.empty()) throw Error(ErrorCode::kInvalidArgument, "--mp4: needs a frame range (--frames A..B)");
+    return;
+  }
+  ParseFrameRange(options.frames);
+  CheckFramePattern(out);
+  if (options.mp4.empty()) return;
+  if (std::filesystem::path(options.mp4).extension() != ".mp4") {
+    throw Error(ErrorCode::kInvalidArgument, "--mp4: " + options.mp4 + " does not end in .mp4");
+  }
+  if (format != ImageFileFormat::kPng) {
+    throw Error(ErrorCode::kInvalidArgument, "--mp4: needs PNG frames (sRGB); --out " + out + " is not .png");
+  }
+  if (!(options.fps > 0 && options.fps <= kMaxFramesPerSecond)) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "--fps: " + std::to_string(options.fps) + " is not in (0, " + std::to_string(kMaxFramesPerSecond) + "]");
+  }
+}
+
 ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
   struct Options {
     std::string scene, out;
+    FrameRangeOptions range;
     SubmitOptions submit;
   };
   auto options = std::make_shared<Options>();
   auto* command = app.add_subcommand(
-      "render", "Render a scene on the server (its OBJ meshes are uploaded; missing fabrics are precomputed)");
-  command->add_option("scene", options->scene, "Scene spec file (JSON); OBJ paths are relative to it")->required();
-  command->add_option("--out,-o", options->out, "Output image (.png sRGB or .exr linear)")->required();
+      "render", "Render a scene on the server (its OBJ and glTF meshes are uploaded; missing fabrics are precomputed)");
+  command->add_option("scene", options->scene, "Scene spec file (JSON); mesh paths are relative to it")->required();
+  command->add_option("--out,-o", options->out,
+                      "Output image (.png sRGB or .exr linear); with --frames a pattern, as frames/f_%04d.png")
+      ->required();
+  command->add_option("--frames", options->range.frames,
+                      "Render frames A..B (inclusive) of the scene's glTF mesh sequences, one job a frame");
+  command->add_option("--mp4", options->range.mp4, "With --frames: also make this H.264 video of them (ffmpeg)");
+  command->add_option("--fps", options->range.fps, "The video's frame rate")->capture_default_str();
   options->submit.AddTo(command);
   return {
       command, [&flags, options] {
-        const ImageFileFormat format = FormatFromPath(options->out);  // a bad name fails before any work
+        // A bad name fails before any work.
+        const ImageFileFormat format = FormatFromPath(options->out);
+        CheckFrameRangeFlags(options->out, format, options->range);
         v1::SubmitJobRequest request;
         v1::SceneSpec& scene = *request.mutable_render()->mutable_scene();
         scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
@@ -141,9 +244,14 @@ ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
                                                        v1::ImageFormat_Name(scene.render().format()) +
                                                        " but the output file is " + options->out);
         }
+        const std::vector<int> sequence_objects =
+            options->range.frames.empty() ? std::vector<int>() : SequenceObjects(scene);
         const int uploaded = flags.Connect().UploadMeshes(scene, std::filesystem::path(options->scene).parent_path());
         if (uploaded > 0 && !flags.json) std::fprintf(stderr, "uploaded %d mesh(es)\n", uploaded);
         options->submit.Fill(request);
+        if (!options->range.frames.empty()) {
+          return RenderFrameRange(flags, request, sequence_objects, options->out, options->range, options->submit);
+        }
         const v1::Job done = SubmitAndWait(flags, request, options->submit, "render");
         if (options->submit.no_wait) return 0;
         if (const int code = JobExitCode(done)) return code;

@@ -12,9 +12,6 @@
 // in pareto.json and on stdout, so scripts and tests can read it.
 
 #include <fnmatch.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -25,11 +22,10 @@
 
 #include "core/util/error.h"
 #include "core/util/file_io.h"
+#include "core/util/subprocess.h"
 #include "lab/csv_table.h"
 #include "lab/lab_command.h"
 #include "lab/pareto_front.h"
-
-extern char** environ;
 
 namespace loom::lab {
 namespace {
@@ -116,33 +112,6 @@ std::string GnuplotString(const std::string& text) {
   return quoted + "\"";
 }
 
-// Finds `program` on PATH; empty if absent.
-std::string FindOnPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string directories = path == nullptr ? "" : path;
-  size_t start = 0;
-  while (start <= directories.size()) {
-    const size_t end = std::min(directories.find(':', start), directories.size());
-    const std::filesystem::path candidate = std::filesystem::path(directories.substr(start, end - start)) / program;
-    if (end > start && ::access(candidate.c_str(), X_OK) == 0) return candidate.string();
-    start = end + 1;
-  }
-  return {};
-}
-
-void RunGnuplot(const std::string& gnuplot, const std::filesystem::path& script) {
-  const std::string script_path = script.string();
-  char* const argv[] = {const_cast<char*>(gnuplot.c_str()), const_cast<char*>(script_path.c_str()), nullptr};
-  pid_t pid = 0;
-  if (posix_spawn(&pid, gnuplot.c_str(), nullptr, nullptr, argv, environ) != 0) {
-    throw Error(ErrorCode::kUnavailable, "cannot start " + gnuplot);
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    throw Error(ErrorCode::kInternal, "gnuplot failed on " + script_path + " (its messages are above)");
-  }
-}
-
 }  // namespace
 
 LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
@@ -159,10 +128,9 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
   command->add_option("--scenes", options->scenes, "Only rows whose scene matches one of these globs");
   command->add_option("--title", options->title, "Chart title (default: the CSV's name)");
   return {command, [&flags, options] {
-            const std::string gnuplot = FindOnPath("gnuplot");
-            if (gnuplot.empty()) {
-              throw Error(ErrorCode::kUnavailable,
-                          "gnuplot not found on PATH: install the Debian package gnuplot-nox (scripts/setup.sh)");
+            const std::string gnuplot_hint = "install the Debian package gnuplot-nox (scripts/setup.sh)";
+            if (FindOnPath("gnuplot").empty()) {  // before any work
+              throw Error(ErrorCode::kUnavailable, "gnuplot not found on PATH: " + gnuplot_hint);
             }
             const std::vector<ChartPoint> points = Aggregate(ReadCsv(options->csv), options->scenes);
             if (points.empty()) throw Error(ErrorCode::kInvalidArgument, options->csv + ": no rows to chart");
@@ -249,7 +217,7 @@ LabCommand AddChartCommand(CLI::App& app, const LabFlags& flags) {
                         ".svg'\n" + chart(kAxes[a], column) + "set output\n";
             }
             WriteFileAtomic(out / "chart.gp", script);
-            RunGnuplot(gnuplot, out / "chart.gp");
+            RunProgram("gnuplot", {(out / "chart.gp").string()}, gnuplot_hint);
             WriteFileAtomic(out / "pareto.json", fronts.dump(2) + "\n");
 
             nlohmann::json files = nlohmann::json::array();

@@ -23,7 +23,7 @@ PACKAGES=(
   nlohmann-json3-dev libssl-dev
   libyaml-cpp-dev
   libtinygltf-dev
-  gnuplot-nox
+  gnuplot-nox ffmpeg
   clang libclang-rt-14-dev
   python3-grpcio python3-protobuf
 )

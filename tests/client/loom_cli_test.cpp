@@ -126,6 +126,68 @@ TEST_F(LoomCliTest, AnimateWritesTheSequenceAndObjFramesAndARenderUploadsAFrameO
   EXPECT_TRUE(std::filesystem::exists(data_dir_ / "frame.png"));
 }
 
+// `loom render --frames`: a job a frame, each written by the pattern, the video
+// made by ffmpeg with every frame; bad flags refused naming the flag.
+TEST_F(LoomCliTest, RenderFramesWritesEachFrameByThePatternAndTheVideo) {
+  StartServer();
+  const auto spec = Write("hanging.json", R"({"cloth": {"loops": 4, "courses": 6, "wale_axis": {"z": -1}},
+      "pins": [{"course": 0}], "initial_velocity": {"y": 2}, "frames_per_second": 8, "duration_seconds": 1})");
+  ASSERT_EQ(Loom("animate " + spec.string() + " -o " + (data_dir_ / "files" / "cloth.glb").string()).exit_code, 0);
+  v1::SceneSpec scene = TinyScene(48, 32);
+  scene.mutable_objects(0)->mutable_mesh()->set_gltf_path("cloth.glb");
+  scene.mutable_render()->clear_format();
+  const std::string scene_path = Write("scene.json", SpecToJson(scene)).string();
+  const std::string pattern = (data_dir_ / "frames" / "f_%02d.png").string();
+  const std::string video = (data_dir_ / "cloth.mp4").string();
+
+  CliRun run = Loom("render " + scene_path + " -o " + pattern + " --frames 2..7 --mp4 " + video + " --fps 8");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("submitted 6 frame job(s)"), std::string::npos) << run.output;
+  for (int frame = 0; frame < 9; ++frame) {
+    const bool wanted = frame >= 2 && frame <= 7;
+    EXPECT_EQ(std::filesystem::exists(data_dir_ / "frames" / ("f_0" + std::to_string(frame) + ".png")), wanted)
+        << frame;
+  }
+  // Frame 5 of the range is what a render of frame 5 alone makes.
+  scene.mutable_objects(0)->mutable_mesh()->set_frame(5);
+  Write("scene5.json", SpecToJson(scene));
+  ASSERT_EQ(Loom("render " + (data_dir_ / "files" / "scene5.json").string() + " -o " +
+                 (data_dir_ / "alone5.png").string())
+                .exit_code,
+            0);
+  EXPECT_EQ(ReadFile(data_dir_ / "alone5.png"), ReadFile(data_dir_ / "frames" / "f_05.png"));
+  EXPECT_NE(ReadFile(data_dir_ / "frames" / "f_02.png"), ReadFile(data_dir_ / "frames" / "f_05.png"));
+  // The video has the six frames.
+  const auto probe = data_dir_ / "probe.txt";
+  ASSERT_EQ(std::system(("ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames "
+                         "-of csv=p=0 " + video + " > " + probe.string())
+                            .c_str()),
+            0);
+  EXPECT_EQ(ReadFile(probe), "6\n");
+
+  const std::pair<std::string, std::string> refused[] = {
+      {" -o " + pattern + " --frames 7..2", "--frames: 7..2 ends before it begins"},
+      {" -o " + pattern + " --frames 0..3001", "--frames: frame 3001 is past"},
+      {" -o " + pattern + " --frames 0..9", "frame 9"},  // the sequence has frames 0 to 8
+      {" -o " + (data_dir_ / "f.png").string() + " --frames 0..1", "--out: "},
+      {" -o " + (data_dir_ / "f.png").string() + " --mp4 " + video, "--mp4: needs a frame range"},
+      {" -o " + pattern + " --frames 0..1 --mp4 " + (data_dir_ / "v.avi").string(), "--mp4: "},
+      {" -o " + (data_dir_ / "f_%d.exr").string() + " --frames 0..1 --mp4 " + video, "--mp4: needs PNG frames"},
+      {" -o " + pattern + " --frames 0..1 --mp4 " + video + " --fps 0", "--fps: "},
+  };
+  for (const auto& [arguments, message] : refused) {
+    run = Loom("render " + scene_path + arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(message), std::string::npos) << arguments << "\n" << run.output;
+  }
+  v1::SceneSpec plain_scene = TinyScene(48, 32);
+  plain_scene.mutable_render()->clear_format();
+  const auto plain = Write("plain.json", SpecToJson(plain_scene));
+  run = Loom("render " + plain.string() + " -o " + pattern + " --frames 0..1");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--frames: the scene has no glTF mesh"), std::string::npos) << run.output;
+}
+
 // The failure policy users of render farms expect (issue 22): change a job's
 // priority, retry what failed or was cancelled, delete finished jobs and frames.
 TEST_F(LoomCliTest, JobsCanBeReprioritisedRetriedAndDeleted) {
