@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <barrier>
+#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -49,9 +50,97 @@ uint64_t PerWorkerCount::Total() const {
   return total;
 }
 
+namespace {
+
+// The helper threads every ParallelFor shares, started when first wanted and kept
+// (a simulation runs thousands of short loops a second; starting threads for each
+// costs more than some of the loops). A loop asks for helpers; idle helpers join
+// it, each taking the next worker index, until it has enough or its owner, which
+// works too, runs out of items. Loops from several threads run side by side; a
+// loop started inside a loop's body runs on its own thread alone (no helper waits
+// on another).
+class HelperPool {
+ public:
+  using Work = std::function<void(unsigned worker)>;
+
+  static HelperPool& Get() {
+    static HelperPool pool;
+    return pool;
+  }
+  static bool InsideALoop() { return depth_ > 0; }
+
+  // Runs work(0) here and work(1 … helpers) on helpers that are free before the
+  // caller's own work(0) ends; returns when every one that joined has finished.
+  void Run(unsigned helpers, const Work& work) {
+    Loop loop{&work, helpers};
+    {
+      const std::lock_guard lock(mutex_);
+      // Grown to the most helpers a loop asked for, and kept.
+      while (threads_.size() < helpers) threads_.emplace_back([this] { Serve(); });
+      open_.push_back(&loop);
+    }
+    wake_.notify_all();
+    ++depth_;
+    work(0);
+    --depth_;
+    std::unique_lock lock(mutex_);
+    std::erase(open_, &loop);  // no helper joins from here on
+    loop.finished.wait(lock, [&] { return loop.running == 0; });
+  }
+
+  ~HelperPool() {
+    {
+      const std::lock_guard lock(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& thread : threads_) thread.join();
+  }
+
+ private:
+  struct Loop {
+    const Work* work;
+    unsigned wanted;          // helpers still wanted
+    unsigned next_worker = 1;
+    unsigned running = 0;     // helpers inside work
+    std::condition_variable finished;
+  };
+
+  HelperPool() = default;
+
+  void Serve() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return quit_ || !open_.empty(); });
+      if (quit_) return;
+      Loop& loop = *open_.front();
+      const unsigned worker = loop.next_worker++;
+      if (--loop.wanted == 0) open_.erase(open_.begin());
+      ++loop.running;
+      lock.unlock();
+      ++depth_;
+      (*loop.work)(worker);
+      --depth_;
+      lock.lock();
+      if (--loop.running == 0) loop.finished.notify_all();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<Loop*> open_;  // loops wanting helpers, oldest first
+  bool quit_ = false;
+  std::vector<std::thread> threads_;
+  static thread_local int depth_;
+};
+
+thread_local int HelperPool::depth_ = 0;
+
+}  // namespace
+
 void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t, unsigned)>& body,
                  const std::function<void(size_t)>& progress) {
-  threads = LoopThreads(threads, count);
+  threads = HelperPool::InsideALoop() ? 1 : LoopThreads(threads, count);
   std::atomic<size_t> next{0};
   std::atomic<size_t> done{0};
   FirstFailure failure;
@@ -74,11 +163,11 @@ void ParallelFor(size_t count, unsigned threads, const std::function<void(size_t
     }
   };
 
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (unsigned worker = 1; worker < threads; ++worker) pool.emplace_back(work, worker);
-  work(0);
-  for (std::thread& thread : pool) thread.join();
+  if (threads == 1) {
+    work(0);
+  } else {
+    HelperPool::Get().Run(threads - 1, work);
+  }
   failure.RethrowIfAny();
   if (progress) progress(count);
 }

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <mutex>
+#include <thread>
 #include <stdexcept>
 #include <vector>
 
@@ -104,6 +107,73 @@ TEST(ParallelRounds, NoRoundsCallsNothing) {
   ParallelRounds(0, 4, 2, [&](size_t) { ++calls; }, [&](size_t, size_t, unsigned) { ++calls; },
                  [&](size_t) { ++calls; });
   EXPECT_EQ(calls, 0);
+}
+
+// Each item once, each worker index on one thread at a time and below the
+// thread count, progress rising to the count.
+TEST(ParallelFor, EveryItemOnceWorkerIndicesInRangeProgressEndsAtTheCount) {
+  for (const unsigned threads : {1u, 2u, 5u}) {
+    constexpr size_t kItems = 10000;
+    std::vector<std::atomic<int>> seen(kItems);
+    std::vector<std::atomic<int>> inside(threads);
+    std::atomic<bool> overlapped{false}, out_of_range{false};
+    std::vector<size_t> reports;
+    ParallelFor(
+        kItems, threads,
+        [&](size_t item, unsigned worker) {
+          if (worker >= threads) {
+            out_of_range = true;
+            return;
+          }
+          if (++inside[worker] != 1) overlapped = true;
+          ++seen[item];
+          --inside[worker];
+        },
+        [&](size_t done) { reports.push_back(done); });
+    for (size_t i = 0; i < kItems; ++i) ASSERT_EQ(seen[i], 1) << "item " << i << ", " << threads << " threads";
+    EXPECT_FALSE(overlapped);
+    EXPECT_FALSE(out_of_range);
+    ASSERT_FALSE(reports.empty());
+    EXPECT_EQ(reports.back(), kItems);
+    EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
+  }
+}
+
+// The helpers are started once and kept: a thousand loops run on no more threads
+// than one loop does (not a new team per loop). A thread's thread_local is made
+// fresh in each new thread, whatever id the system reuses for it.
+std::atomic<int> threads_started{0};
+thread_local const bool kCounted = (++threads_started, true);
+
+TEST(ParallelFor, LoopsReuseTheirHelperThreads) {
+  const int before = threads_started;
+  for (int loop = 0; loop < 1000; ++loop) {
+    ParallelFor(64, 3, [&](size_t, unsigned) { EXPECT_TRUE(kCounted); });
+  }
+  // This thread and at most 2 helpers (the pool may have grown already, for other
+  // tests' wider loops in this process, without this test's threads counted).
+  EXPECT_LE(threads_started - before, 3);
+}
+
+TEST(ParallelFor, TheFirstExceptionIsRethrownAndLoopsInsideLoopsAndSideBySideFinish) {
+  EXPECT_THROW(ParallelFor(1000, 2,
+                           [](size_t item, unsigned) {
+                             if (item == 500) throw std::runtime_error("item 500");
+                           }),
+               std::runtime_error);
+  // Nested: the inner loops run on their own threads; nothing waits for a busy helper.
+  std::atomic<size_t> inner{0};
+  ParallelFor(8, 2, [&](size_t, unsigned) { ParallelFor(100, 2, [&](size_t, unsigned) { ++inner; }); });
+  EXPECT_EQ(inner, 800u);
+  // Two threads looping at once share the helpers.
+  std::atomic<size_t> total{0};
+  auto loops = [&] {
+    for (int i = 0; i < 200; ++i) ParallelFor(50, 2, [&](size_t, unsigned) { ++total; });
+  };
+  std::thread other(loops);
+  loops();
+  other.join();
+  EXPECT_EQ(total, 2u * 200 * 50);
 }
 
 }  // namespace
