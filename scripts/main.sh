@@ -15,19 +15,8 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/setup.sh
 BUILD_DIR=${BUILD_DIR:-build}
 OUT=${OUT:-out}
-ADDRESS=127.0.0.1:${LOOM_PORT:-7450}
 mkdir -p "$OUT"
-DATA=$(mktemp -d -t loom-main.XXXXXX)
+source scripts/local_server.sh
 
-"$BUILD_DIR/server/loom-server" --data "$DATA" --listen "$ADDRESS" --local-workers 1 &
-SERVER=$!
-stop_server() {
-  kill -TERM "$SERVER" 2>/dev/null && wait "$SERVER" || true
-  rm -rf "$DATA"
-}
-trap stop_server EXIT
-
-loom() { "$BUILD_DIR/client/loom" --server "$ADDRESS" "$@"; }
-loom server-info --wait 60
 loom fabric precompute examples/fabrics/stockinette.json
 loom render examples/scenes/knit_plane.json -o "$OUT/knit_plane.png"

@@ -1,6 +1,7 @@
 #include "core/animate/knit_simulation.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <limits>
@@ -19,6 +20,8 @@ constexpr double kShortestStep = 1e-7;
 
 // Work items of the parallel loops: this many springs, angles or points each.
 constexpr size_t kChunk = 2048;
+// Pairs (or points' pair lists) a parallel item takes: each costs closest points.
+constexpr size_t kPairChunk = 256;
 // Cloths of fewer points step on one thread (starting threads would cost more).
 constexpr size_t kParallelPoints = 4096;
 
@@ -95,7 +98,7 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
     contacts_ = std::make_unique<SelfContactPairs>(cloth_, mechanics_.half_thickness, mechanics_.contact_skin,
                                                    mechanics_.self_exclusion, mechanics_.threads);
     contacts_->Update(x_);
-    min_self_distance_ = SelfDistance(x_);
+    min_self_distance_ = CrossCloth(x_).least;
   }
 }
 
@@ -236,32 +239,44 @@ void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::
       push(-std::min(0.5f * mechanics_.dynamic_friction * self_friction_field_(depth), stop) * slip / slip_speed);
     }
   };
-  for (size_t first = 0; first < pairs.size();) {
-    const uint32_t point = pairs[first].point;
-    size_t last = first;
-    std::optional<Touch> nearest, across;
-    for (; last < pairs.size() && pairs[last].point == point; ++last) {
-      const uint32_t triangle = pairs[last].triangle;
-      const glm::uvec3 t = triangles[triangle];
-      const TrianglePoint q = ClosestPointOnTriangle(x[point], x[t.x], x[t.y], x[t.z]);
-      const glm::vec3 offset = x[point] - q.point;
-      const float d = glm::length(offset);
-      if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
-      const glm::vec3 normal = glm::cross(x[t.y] - x[t.x], x[t.z] - x[t.x]);
-      const float twice_area = glm::length(normal);
-      if (!(twice_area > 0.0f) || std::abs(glm::dot(offset, normal)) < cos_cone * twice_area * d) continue;
-      const Touch touch{triangle, offset / d, q.weights, d};
-      if (!nearest || d < nearest->d) {
-        if (nearest && glm::dot(nearest->u, touch.u) < 0.0f) across = nearest;
-        nearest = touch;
-      } else if (glm::dot(nearest->u, touch.u) < 0.0f && (!across || d < across->d)) {
-        across = touch;
+  // Each point's pairs are consecutive. Its touches are chosen in parallel (the
+  // closest points are the work) and applied in the pairs' order after, so the
+  // sums do not depend on the thread count.
+  std::vector<size_t> starts;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    if (k == 0 || pairs[k].point != pairs[k - 1].point) starts.push_back(k);
+  }
+  starts.push_back(pairs.size());
+  const size_t points = starts.size() - 1;
+  std::vector<std::optional<Touch>> nearest(points), across(points);
+  ParallelFor((points + kPairChunk - 1) / kPairChunk, threads_, [&](size_t chunk, unsigned) {
+    for (size_t g = chunk * kPairChunk, end = std::min(points, g + kPairChunk); g < end; ++g) {
+      const uint32_t point = pairs[starts[g]].point;
+      for (size_t k = starts[g]; k < starts[g + 1]; ++k) {
+        const uint32_t triangle = pairs[k].triangle;
+        const glm::uvec3 t = triangles[triangle];
+        const TrianglePoint q = ClosestPointOnTriangle(x[point], x[t.x], x[t.y], x[t.z]);
+        const glm::vec3 offset = x[point] - q.point;
+        const float d = glm::length(offset);
+        if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
+        const glm::vec3 normal = glm::cross(x[t.y] - x[t.x], x[t.z] - x[t.x]);
+        const float twice_area = glm::length(normal);
+        if (!(twice_area > 0.0f) || std::abs(glm::dot(offset, normal)) < cos_cone * twice_area * d) continue;
+        const Touch touch{triangle, offset / d, q.weights, d};
+        if (!nearest[g] || d < nearest[g]->d) {
+          if (nearest[g] && glm::dot(nearest[g]->u, touch.u) < 0.0f) across[g] = nearest[g];
+          nearest[g] = touch;
+        } else if (glm::dot(nearest[g]->u, touch.u) < 0.0f && (!across[g] || d < across[g]->d)) {
+          across[g] = touch;
+        }
       }
     }
+  });
+  for (size_t g = 0; g < points; ++g) {
+    const uint32_t point = pairs[starts[g]].point;
     // A later nearest may leave `across` on its own side.
-    if (nearest) apply(point, *nearest);
-    if (across && glm::dot(nearest->u, across->u) < 0.0f) apply(point, *across);
-    first = last;
+    if (nearest[g]) apply(point, *nearest[g]);
+    if (across[g] && glm::dot(nearest[g]->u, across[g]->u) < 0.0f) apply(point, *across[g]);
   }
 }
 
@@ -295,17 +310,33 @@ float KnitSimulation::StableStep() const {
     if (speed > 0.0f) step = std::min(step, mechanics_.travel * d / speed);
   };
   if (contacts_) {
-    for (const PointTriangle& pair : contacts_->pairs()) {
-      const glm::uvec3 t = contacts_->triangles()[pair.triangle];
-      const TrianglePoint q = ClosestPointOnTriangle(x_[pair.point], x_[t.x], x_[t.y], x_[t.z]);
-      const float d = glm::distance(x_[pair.point], q.point);
-      if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
-      const float k = -field_.Slope(std::max(d, kNearestField * field_.core()));
-      stiffness[pair.point] += k;
+    // Each pair's stiffness and closing speed in parallel (the closest points are
+    // the work), then added up in the pairs' order.
+    const std::vector<PointTriangle>& pairs = contacts_->pairs();
+    struct PairStiffness {
+      float k = 0.0f, d = 0.0f, closing = 0.0f;  // d = 0: not within the field
+    };
+    std::vector<PairStiffness> per_pair(pairs.size());
+    ParallelFor((pairs.size() + kPairChunk - 1) / kPairChunk, threads_, [&](size_t chunk, unsigned) {
+      for (size_t i = chunk * kPairChunk, end = std::min(pairs.size(), i + kPairChunk); i < end; ++i) {
+        const glm::uvec3 t = contacts_->triangles()[pairs[i].triangle];
+        const glm::vec3 x = x_[pairs[i].point];
+        const TrianglePoint q = ClosestPointOnTriangle(x, x_[t.x], x_[t.y], x_[t.z]);
+        const float d = glm::distance(x, q.point);
+        if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
+        const glm::vec3 w = q.weights;
+        const glm::vec3 relative = v_[pairs[i].point] - (w.x * v_[t.x] + w.y * v_[t.y] + w.z * v_[t.z]);
+        per_pair[i] = {-field_.Slope(std::max(d, kNearestField * field_.core())), d,
+                       -glm::dot(relative, (x - q.point) / d)};
+      }
+    });
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (per_pair[i].d == 0.0f) continue;
+      const glm::uvec3 t = contacts_->triangles()[pairs[i].triangle];
+      const float k = per_pair[i].k;
+      stiffness[pairs[i].point] += k;
       stiffness[t.x] += k, stiffness[t.y] += k, stiffness[t.z] += k;
-      const glm::vec3 w = q.weights;
-      const glm::vec3 relative = v_[pair.point] - (w.x * v_[t.x] + w.y * v_[t.y] + w.z * v_[t.z]);
-      closing(d, -glm::dot(relative, (x_[pair.point] - q.point) / d));
+      closing(per_pair[i].d, per_pair[i].closing);
     }
   }
   float omega2 = 0.0f, speed = 0.0f;
@@ -326,42 +357,47 @@ float KnitSimulation::StableStep() const {
   return step;
 }
 
-bool KnitSimulation::EntersCloth(const std::vector<glm::vec3>& x) const {
+KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::vec3>& x) const {
   const std::vector<glm::uvec3>& triangles = contacts_->triangles();
+  const std::vector<PointTriangle>& pairs = contacts_->pairs();
   const float nearest_field = kNearestField * field_.core();
-  for (const PointTriangle& pair : contacts_->pairs()) {
+  // Whether the pair's point enters its triangle's field or crosses it; `least`
+  // keeps its distance at x.
+  const auto enters = [&](const PointTriangle& pair, float& least) {
     const glm::uvec3 t = triangles[pair.triangle];
     const size_t p = pair.point;
     const auto distance = [&](const std::vector<glm::vec3>& y) {
       return glm::distance(y[p], ClosestPointOnTriangle(y[p], y[t.x], y[t.y], y[t.z]).point);
     };
-    if (distance(x) < nearest_field && distance(x_) >= nearest_field) return true;
+    const float d = distance(x);
+    least = std::min(least, d);
+    if (d < nearest_field && distance(x_) >= nearest_field) return true;
     const auto side = [&](const std::vector<glm::vec3>& y) {
       return glm::dot(y[p] - y[t.x], glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x]));
     };
     const float before = side(x_), after = side(x);
-    if (before == 0.0f || (before > 0.0f) == (after > 0.0f)) continue;
+    if (before == 0.0f || (before > 0.0f) == (after > 0.0f)) return false;
     // Where the point meets the plane, taking the motion as linear.
     const float s = before / (before - after);
     const auto at = [&](size_t q) { return glm::mix(x_[q], x[q], s); };
     const glm::vec3 w = ProjectedWeights(at(p), at(t.x), at(t.y), at(t.z));
-    if (w.x >= 0.0f && w.y >= 0.0f && w.z >= 0.0f && w != glm::vec3(0.0f)) return true;
-  }
-  return false;
+    return w.x >= 0.0f && w.y >= 0.0f && w.z >= 0.0f && w != glm::vec3(0.0f);
+  };
+  const size_t chunks = (pairs.size() + kPairChunk - 1) / kPairChunk;
+  std::vector<float> least(chunks, std::numeric_limits<float>::infinity());
+  std::atomic<bool> entered{false};
+  ParallelFor(chunks, threads_, [&](size_t chunk, unsigned) {
+    for (size_t i = chunk * kPairChunk, end = std::min(pairs.size(), i + kPairChunk); i < end; ++i) {
+      if (enters(pairs[i], least[chunk])) entered = true;
+    }
+  });
+  return {entered, least.empty() ? std::numeric_limits<float>::infinity()
+                                 : *std::min_element(least.begin(), least.end())};
 }
 
-float KnitSimulation::SelfDistance(const std::vector<glm::vec3>& x) const {
-  float least = std::numeric_limits<float>::infinity();
-  for (const PointTriangle& pair : contacts_->pairs()) {
-    const glm::uvec3 t = contacts_->triangles()[pair.triangle];
-    least = std::min(least,
-                     glm::distance(x[pair.point], ClosestPointOnTriangle(x[pair.point], x[t.x], x[t.y], x[t.z]).point));
-  }
-  return least;
-}
-
-bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t) const {
+bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t, float& self_distance) const {
   const float nearest_field = kNearestField * field_.core();
+  self_distance = std::numeric_limits<float>::quiet_NaN();
   for (size_t p = 0; p < x.size(); ++p) {
     if (pinned_[p]) continue;
     for (const Collider& collider : colliders_) {
@@ -371,7 +407,10 @@ bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t) const
       }
     }
   }
-  return contacts_ && EntersCloth(x);
+  if (!contacts_) return false;
+  const ClothCrossing crossing = CrossCloth(x);
+  self_distance = crossing.least;
+  return crossing.enters;
 }
 
 float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x, double t) const {
@@ -452,10 +491,11 @@ void KnitSimulation::Advance(float duration, float max_step) {
     }
     // A point outside a collider now must stay outside, and on its side of the
     // cloth's triangles; halve the step until it does.
+    float self_distance = 0.0f;
     for (int halving = 0;; ++halving) {
       Integrate(dt, x, v);
       if (contacts_) contacts_->Update(x);
-      if (!Penetrates(x, time_ + dt)) break;
+      if (!Penetrates(x, time_ + dt, self_distance)) break;
       if (halving == mechanics_.max_halvings) {
         ++counts_.penetrations;
         break;
@@ -478,7 +518,11 @@ void KnitSimulation::Advance(float duration, float max_step) {
       }
     }
     min_distance_ = std::min(min_distance_, ColliderDistance(x_, time_));
-    if (contacts_) min_self_distance_ = std::min(min_self_distance_, SelfDistance(x_));
+    if (contacts_) {
+      // A step taken though it penetrates a collider was not checked against the cloth.
+      if (std::isnan(self_distance)) self_distance = CrossCloth(x_).least;
+      min_self_distance_ = std::min(min_self_distance_, self_distance);
+    }
     ++counts_.steps;
   }
 }

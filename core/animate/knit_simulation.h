@@ -126,10 +126,13 @@ class KnitSimulation {
                       std::vector<glm::vec3>& a) const;
   // Whether the step from x_ to x carries a point through a non-adjacent
   // triangle (its signed distance to the triangle's plane changes sign while its
-  // projection lies inside the triangle) or to within 0.02τ of one.
-  bool EntersCloth(const std::vector<glm::vec3>& x) const;
-  // The least distance from a point to a non-adjacent triangle at x.
-  float SelfDistance(const std::vector<glm::vec3>& x) const;
+  // projection lies inside the triangle) or to within 0.02τ of one, and the least
+  // distance from a point to a non-adjacent triangle at x.
+  struct ClothCrossing {
+    bool enters = false;
+    float least = 0.0f;
+  };
+  ClothCrossing CrossCloth(const std::vector<glm::vec3>& x) const;
   // The smoothing filter on the step from x_ to (x, v).
   void Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
 
@@ -146,8 +149,9 @@ class KnitSimulation {
   // The longest stable step at the present state.
   float StableStep() const;
   // Whether a point farther than 0.02τ from a collider at the present positions
-  // is nearer at x (inside it included), or EntersCloth(x).
-  bool Penetrates(const std::vector<glm::vec3>& x, double t) const;
+  // is nearer at x (inside it included), or CrossCloth(x) enters; self_distance
+  // gets CrossCloth's least distance when it was asked (NaN when not).
+  bool Penetrates(const std::vector<glm::vec3>& x, double t, float& self_distance) const;
   // The least signed distance from the points x to any collider.
   float ColliderDistance(const std::vector<glm::vec3>& x, double t) const;
   // Moves the pinned points to where their motions have them at time t.
