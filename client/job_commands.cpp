@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <set>
 
 #include "client/client_command.h"
@@ -137,8 +138,8 @@ struct FrameRangeOptions {
 };
 
 int RenderFrameRange(ClientFlags& flags, const v1::SubmitJobRequest& request, const std::vector<int>& sequence_objects,
-                     const std::string& out, const FrameRangeOptions& options, const SubmitOptions& submit) {
-  const FrameRange range = ParseFrameRange(options.frames);
+                     FrameRange range, const std::string& out, const FrameRangeOptions& options,
+                     const SubmitOptions& submit) {
   const std::vector<v1::SubmitJobResponse> responses =
       SubmitFrameRange(flags.Connect(), request, sequence_objects, range);
   if (!flags.json) std::fprintf(stderr, "submitted %u frame job(s), frames %s\n", range.size(), options.frames.c_str());
@@ -190,15 +191,17 @@ int RenderFrameRange(ClientFlags& flags, const v1::SubmitJobRequest& request, co
   return 0;
 }
 
-// The checks a frame range's flags get before anything is uploaded or submitted.
-void CheckFrameRangeFlags(const std::string& out, ImageFileFormat format, const FrameRangeOptions& options) {
+// The checks a frame range's flags get before anything is uploaded or submitted;
+// the range, if --frames asks for one.
+std::optional<FrameRange> CheckFrameRangeFlags(const std::string& out, ImageFileFormat format,
+                                               const FrameRangeOptions& options) {
   if (options.frames.empty()) {
     if (!options.mp4.empty()) throw Error(ErrorCode::kInvalidArgument, "--mp4: needs a frame range (--frames A..B)");
-    return;
+    return std::nullopt;
   }
-  ParseFrameRange(options.frames);
+  const FrameRange range = ParseFrameRange(options.frames);
   CheckFramePattern(out);
-  if (options.mp4.empty()) return;
+  if (options.mp4.empty()) return range;
   if (std::filesystem::path(options.mp4).extension() != ".mp4") {
     throw Error(ErrorCode::kInvalidArgument, "--mp4: " + options.mp4 + " does not end in .mp4");
   }
@@ -209,6 +212,7 @@ void CheckFrameRangeFlags(const std::string& out, ImageFileFormat format, const 
     throw Error(ErrorCode::kInvalidArgument,
                 "--fps: " + std::to_string(options.fps) + " is not in (0, " + std::to_string(kMaxFramesPerSecond) + "]");
   }
+  return range;
 }
 
 ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
@@ -233,7 +237,7 @@ ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
       command, [&flags, options] {
         // A bad name fails before any work.
         const ImageFileFormat format = FormatFromPath(options->out);
-        CheckFrameRangeFlags(options->out, format, options->range);
+        const std::optional<FrameRange> range = CheckFrameRangeFlags(options->out, format, options->range);
         v1::SubmitJobRequest request;
         v1::SceneSpec& scene = *request.mutable_render()->mutable_scene();
         scene = LoadSpecFile<v1::SceneSpec>(options->scene, "scene");
@@ -244,13 +248,13 @@ ClientCommand AddRender(CLI::App& app, ClientFlags& flags) {
                                                        v1::ImageFormat_Name(scene.render().format()) +
                                                        " but the output file is " + options->out);
         }
-        const std::vector<int> sequence_objects =
-            options->range.frames.empty() ? std::vector<int>() : SequenceObjects(scene);
+        const std::vector<int> sequence_objects = range ? SequenceObjects(scene) : std::vector<int>();
         const int uploaded = flags.Connect().UploadMeshes(scene, std::filesystem::path(options->scene).parent_path());
         if (uploaded > 0 && !flags.json) std::fprintf(stderr, "uploaded %d mesh(es)\n", uploaded);
         options->submit.Fill(request);
-        if (!options->range.frames.empty()) {
-          return RenderFrameRange(flags, request, sequence_objects, options->out, options->range, options->submit);
+        if (range) {
+          return RenderFrameRange(flags, request, sequence_objects, *range, options->out, options->range,
+                                  options->submit);
         }
         const v1::Job done = SubmitAndWait(flags, request, options->submit, "render");
         if (options->submit.no_wait) return 0;
