@@ -40,7 +40,9 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
             }
             if (!options->gltf.empty() || !options->obj_dir.empty()) {
               const MeshSequence sequence = animate::ClothSequence(animation);
-              if (!options->gltf.empty()) animate::WriteGltfSequence(sequence, options->gltf);
+              if (!options->gltf.empty()) {
+                animate::WriteGltfSequence(sequence, options->gltf, animate::SolidTracks(animation));
+              }
               if (!options->obj_dir.empty()) animate::WriteObjSequence(sequence, options->obj_dir);
             }
             const auto& counts = animation.counts;

@@ -6,7 +6,7 @@
 # job a frame, the knit fabric precomputed first) into out/NAME/f_NNNN.png and
 # out/NAME.mp4 (ffmpeg), printing how long each part took.
 #
-#   scripts/animation_video.sh scarf_fold      (also: scarf_stretch, scarf_on_ball)
+#   scripts/animation_video.sh scarf_fold      (also: scarf_stretch, scarf_on_ball, ball_on_folded_scarf)
 #
 # Environment: BUILD_DIR (default build), OUT (default out), LOOM_PORT (default
 # 7450), LOCAL_WORKERS (default 1; each renders a frame at a time), FPS (default 25,
@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-NAME=${1:?usage: scripts/animation_video.sh scarf_fold|scarf_stretch|scarf_on_ball}
+NAME=${1:?usage: scripts/animation_video.sh scarf_fold|scarf_stretch|scarf_on_ball|ball_on_folded_scarf}
 [[ -f examples/animations/$NAME.json && -f examples/scenes/$NAME.json ]] || {
   echo "animation_video.sh: no examples/animations/$NAME.json with examples/scenes/$NAME.json" >&2
   exit 2

@@ -145,7 +145,7 @@ NamedFile JobRunner::Animate(const v1::AnimateJob& job, const PrecomputeProgress
   });
   const StepDirectory directory(NewScratchPath("sequence"));
   const std::filesystem::path path = directory.path() / "sequence.glb";
-  animate::WriteGltfSequence(animate::ClothSequence(animation), path);
+  animate::WriteGltfSequence(animate::ClothSequence(animation), path, animate::SolidTracks(animation));
   return {path.filename().string(), ReadFile(path)};
 }
 

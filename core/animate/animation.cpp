@@ -48,11 +48,16 @@ ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<vo
                                   ToVec3(cloth_spec.course_axis()), ToVec3(cloth_spec.wale_axis()));
   animation.frames_per_second = spec.frames_per_second();
 
-  std::vector<Collider> colliders;
-  for (const v1::ColliderSpec& collider : spec.colliders()) colliders.push_back(ToCollider(collider));
+  for (const v1::ColliderSpec& collider : spec.colliders()) animation.colliders.push_back(ToCollider(collider));
   KnitMechanics mechanics;
   mechanics.threads = threads;
-  KnitSimulation simulation(animation.cloth, mechanics, std::move(colliders));
+  KnitSimulation simulation(animation.cloth, mechanics, animation.colliders);
+  for (int k = 0; k < spec.colliders_size(); ++k) {
+    const v1::ColliderSpec& collider = spec.colliders(k);
+    if (collider.has_sphere() && collider.sphere().mass() > 0.0f) {
+      simulation.Free(static_cast<size_t>(k), collider.sphere().mass(), collider.sphere().release_seconds());
+    }
+  }
   const KnitCloth& cloth = animation.cloth;
   for (size_t p = 0; p < cloth.size(); ++p) simulation.SetVelocity(p, ToVec3(spec.initial_velocity()));
   for (const v1::PinSpec& pin : spec.pins()) {
@@ -75,11 +80,18 @@ ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<vo
   const size_t steps = AnimationFrames(spec);
   const double frame_time = 1.0 / spec.frames_per_second();
   animation.frames.reserve(steps + 1);
-  animation.frames.push_back(simulation.positions());
+  animation.collider_tracks.resize(animation.colliders.size());
+  const auto record = [&] {
+    animation.frames.push_back(simulation.positions());
+    for (size_t k = 0; k < animation.colliders.size(); ++k) {
+      animation.collider_tracks[k].push_back(simulation.collider_displacement(k));
+    }
+  };
+  record();
   const auto start = std::chrono::steady_clock::now();
   for (size_t frame = 1; frame <= steps; ++frame) {
     simulation.Advance(static_cast<float>(frame * frame_time - simulation.time()), static_cast<float>(frame_time));
-    animation.frames.push_back(simulation.positions());
+    record();
     if (progress) progress(frame, steps);
   }
   animation.simulation_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

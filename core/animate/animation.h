@@ -19,6 +19,10 @@ struct ClothAnimation {
   float frames_per_second = 25.0f;
   // Frame k is the cloth at k / frames_per_second seconds, k = 0 … ⌈duration × rate⌉.
   std::vector<std::vector<glm::vec3>> frames;
+  // The spec's colliders, where it placed them, and how far each had moved at
+  // every frame ([collider][frame]).
+  std::vector<Collider> colliders;
+  std::vector<std::vector<glm::vec3>> collider_tracks;
   SimulationCounts counts;
   float min_collider_distance = 0.0f;  // over every step (+∞ without colliders)
   float min_self_distance = 0.0f;      // over every step (+∞ while the cloth never met itself)

@@ -42,8 +42,8 @@ Collider Collider::Moving(const Motion& motion) const {
   return c;
 }
 
-Contact Collider::Nearest(glm::vec3 p, double t) const {
-  p -= motion_.Displacement(t);
+Contact Collider::Nearest(glm::vec3 p, glm::vec3 displacement) const {
+  p -= displacement;
   switch (kind_) {
     case Kind::kPlane:
       return {glm::dot(p - centre_, extent_), extent_};

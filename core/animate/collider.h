@@ -1,8 +1,9 @@
 #pragma once
 // A solid a knit cloth falls on (the lumislice paper §4.1.2: "other objects"):
 // a plane, a sphere or a box, as a signed distance with the outward normal,
-// which is what the thickness force field and friction need of it, moving
-// rigidly along a Motion (without turning).
+// which is what the thickness force field and friction need of it, moved
+// rigidly (without turning) along a Motion or, for a free ball, by the
+// simulation (core/animate/knit_simulation.h).
 
 #include <glm/glm.hpp>
 
@@ -26,10 +27,14 @@ class Collider {
   // The collider moving along `motion` from where it was made.
   Collider Moving(const Motion& motion) const;
 
-  // Its surface nearest p at time t (seconds).
-  Contact Nearest(glm::vec3 p, double t) const;
-  // Its velocity at time t.
-  glm::vec3 Velocity(double t) const { return motion_.Velocity(t); }
+  // Its surface nearest p when it has moved by `displacement` from where it was made.
+  Contact Nearest(glm::vec3 p, glm::vec3 displacement) const;
+  const Motion& motion() const { return motion_; }
+  bool sphere() const { return kind_ == Kind::kSphere; }
+  // Where it was made: a sphere's or a box's centre, a point of a plane.
+  glm::vec3 centre() const { return centre_; }
+  // A sphere's radius (0 for the others).
+  float radius() const { return kind_ == Kind::kSphere ? extent_.x : 0.0f; }
 
  private:
   enum class Kind { kPlane, kSphere, kBox };

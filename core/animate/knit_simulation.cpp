@@ -38,6 +38,8 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
       mechanics_(mechanics),
       field_(mechanics.half_thickness, mechanics.core, mechanics.field_strength),
       colliders_(std::move(colliders)),
+      bodies_(colliders_.size()),
+      placed_(colliders_.size()),
       self_friction_field_(mechanics.half_thickness, mechanics.core, mechanics.self_friction_strength),
       pinned_(cloth.size(), 0),
       x_(cloth.positions),
@@ -90,7 +92,10 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
     incidence_.insert(incidence_.end(), list.begin(), list.end());
     incidence_offsets_.push_back(static_cast<uint32_t>(incidence_.size()));
   }
-  min_distance_ = ColliderDistance(x_, time_);
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    placed_[k] = {colliders_[k].motion().Displacement(time_), colliders_[k].motion().Velocity(time_)};
+  }
+  min_distance_ = ColliderDistance(x_, placed_);
   if (mechanics_.self_collision) {
     if (!(mechanics_.cone_degrees > 0.0f && mechanics_.cone_degrees <= 90.0f)) {
       throw Error(ErrorCode::kInvalidArgument, "knit simulation: cone_degrees must lie in (0, 90]");
@@ -132,14 +137,57 @@ void KnitSimulation::SetVelocity(size_t index, glm::vec3 velocity) {
   if (!pinned_[index]) v_[index] = velocity;
 }
 
+void KnitSimulation::Free(size_t collider, float mass, double release) {
+  if (collider >= colliders_.size()) {
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: no collider " + std::to_string(collider));
+  }
+  if (!colliders_[collider].sphere()) {
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: only a sphere collider can be let go as a ball");
+  }
+  if (!(mass > 0.0f && std::isfinite(mass))) {
+    throw Error(ErrorCode::kInvalidArgument, "knit simulation: a ball's mass must be > 0");
+  }
+  if (!(release >= time_)) throw Error(ErrorCode::kInvalidArgument, "knit simulation: a ball released in the past");
+  bodies_[collider] = {mass, release};
+}
+
+void KnitSimulation::PlaceColliders(float h, const std::vector<Placement>& rates, const std::vector<glm::vec3>& push,
+                                    std::vector<Placement>& out) const {
+  out.resize(colliders_.size());
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    if (!MovesFreely(k)) {
+      const Motion& motion = colliders_[k].motion();
+      out[k] = {motion.Displacement(time_ + h), motion.Velocity(time_ + h)};
+    }
+  }
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    if (!MovesFreely(k)) continue;
+    Placement ball{placed_[k].displacement + h * rates[k].velocity,
+                   placed_[k].velocity + h * (mechanics_.gravity + push[k] / bodies_[k].mass)};
+    // Out of the other colliders along their normals, its velocity into them
+    // stopped.
+    for (size_t other = 0; other < colliders_.size(); ++other) {
+      if (MovesFreely(other)) continue;
+      const Contact contact = colliders_[other].Nearest(colliders_[k].centre() + ball.displacement, out[other].displacement);
+      const float depth = colliders_[k].radius() - contact.distance;
+      if (depth <= 0.0f) continue;
+      ball.displacement += depth * contact.normal;
+      const float approach = glm::dot(ball.velocity - out[other].velocity, contact.normal);
+      if (approach < 0.0f) ball.velocity -= approach * contact.normal;
+    }
+    out[k] = ball;
+  }
+}
+
 double KnitSimulation::KineticEnergy() const {
   double energy = 0.0;
   for (const glm::vec3& v : v_) energy += 0.5 * glm::dot(v, v);
   return energy;
 }
 
-void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
-                                   std::vector<glm::vec3>& a) {
+void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                                   const std::vector<Placement>& placed, float dt, std::vector<glm::vec3>& a,
+                                   std::vector<glm::vec3>& push) {
   // Each spring's and angle's forces into its slots of contributions_, then each
   // point's sum of its slots: both in parallel, and the sums in a fixed order
   // whatever the thread count.
@@ -174,20 +222,24 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
   if (contacts_) AddSelfContact(x, v, dt, a);
   // The colliders' fields push along their normals; friction opposes what else
   // would move the point along the surface (eq. 3 and the static threshold
-  // K_s·|F|).
+  // K_s·|F|). What a collider does to a point (of unit mass) it feels the
+  // opposite of, summed per chunk and then in the chunks' order.
+  const size_t colliders = colliders_.size();
+  chunk_push_.assign(chunks(x.size()) * colliders, glm::vec3(0.0f));
   ParallelFor(chunks(x.size()), threads_, [&](size_t chunk, unsigned) {
     for (size_t p = chunk * kChunk, end = std::min(x.size(), p + kChunk); p < end; ++p) {
       if (pinned_[p]) {
         a[p] = glm::vec3(0.0f);
         continue;
       }
-      for (const Collider& collider : colliders_) {
-        const Contact contact = collider.Nearest(x[p], t);
+      for (size_t k = 0; k < colliders; ++k) {
+        const Contact contact = colliders_[k].Nearest(x[p], placed[k].displacement);
         if (contact.distance >= field_.half_thickness()) continue;
+        const glm::vec3 before = a[p];
         const float normal_force = field_(std::max(contact.distance, kNearestField * field_.core()));
         const glm::vec3 n = contact.normal;
         const glm::vec3 tangential_force = a[p] - glm::dot(a[p], n) * n;
-        const glm::vec3 relative = v[p] - collider.Velocity(t);
+        const glm::vec3 relative = v[p] - placed[k].velocity;
         const glm::vec3 slip = relative - glm::dot(relative, n) * n;
         const float slip_speed = glm::length(slip);
         // The fibre layer damps the approach and the parting, but never pulls.
@@ -198,9 +250,14 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
         } else if (slip_speed > 0.0f) {
           a[p] -= std::min(mechanics_.dynamic_friction * normal_force, slip_speed / dt) * slip / slip_speed;
         }
+        chunk_push_[chunk * colliders + k] -= a[p] - before;
       }
     }
   });
+  push.assign(colliders, glm::vec3(0.0f));
+  for (size_t chunk = 0; chunk < chunks(x.size()); ++chunk) {
+    for (size_t k = 0; k < colliders; ++k) push[k] += chunk_push_[chunk * colliders + k];
+  }
 }
 
 void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
@@ -339,18 +396,24 @@ float KnitSimulation::StableStep() const {
       closing(per_pair[i].d, per_pair[i].closing);
     }
   }
+  // A free ball feels the stiffness of every point in its field, over its mass.
+  std::vector<float> ball_stiffness(colliders_.size(), 0.0f);
   float omega2 = 0.0f, speed = 0.0f;
   for (size_t p = 0; p < x_.size(); ++p) {
     if (pinned_[p]) continue;
-    for (const Collider& collider : colliders_) {
-      const Contact contact = collider.Nearest(x_[p], time_);
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      const Contact contact = colliders_[k].Nearest(x_[p], placed_[k].displacement);
       if (contact.distance >= field_.half_thickness()) continue;
       const float d = std::max(contact.distance, kNearestField * field_.core());
       stiffness[p] -= field_.Slope(d);
-      closing(d, -glm::dot(v_[p] - collider.Velocity(time_), contact.normal));
+      ball_stiffness[k] -= field_.Slope(d);
+      closing(d, -glm::dot(v_[p] - placed_[k].velocity, contact.normal));
     }
     omega2 = std::max(omega2, stiffness[p]);
     speed = std::max(speed, glm::length(v_[p]));
+  }
+  for (size_t k = 0; k < colliders_.size(); ++k) {
+    if (MovesFreely(k)) omega2 = std::max(omega2, ball_stiffness[k] / bodies_[k].mass);
   }
   if (omega2 > 0.0f) step = std::min(step, mechanics_.courant / std::sqrt(omega2));
   if (speed > 0.0f) step = std::min(step, mechanics_.travel * (field_.half_thickness() - field_.core()) / speed);
@@ -395,14 +458,15 @@ KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::
                                  : *std::min_element(least.begin(), least.end())};
 }
 
-bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t, float& self_distance) const {
+bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed,
+                                float& self_distance) const {
   const float nearest_field = kNearestField * field_.core();
   self_distance = std::numeric_limits<float>::quiet_NaN();
   for (size_t p = 0; p < x.size(); ++p) {
     if (pinned_[p]) continue;
-    for (const Collider& collider : colliders_) {
-      if (collider.Nearest(x[p], t).distance < nearest_field &&
-          collider.Nearest(x_[p], time_).distance >= nearest_field) {
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      if (colliders_[k].Nearest(x[p], placed[k].displacement).distance < nearest_field &&
+          colliders_[k].Nearest(x_[p], placed_[k].displacement).distance >= nearest_field) {
         return true;
       }
     }
@@ -413,33 +477,38 @@ bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, double t, float
   return crossing.enters;
 }
 
-float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x, double t) const {
+float KnitSimulation::ColliderDistance(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed) const {
   float least = std::numeric_limits<float>::infinity();
   for (size_t p = 0; p < x.size(); ++p) {
     if (pinned_[p]) continue;
-    for (const Collider& collider : colliders_) least = std::min(least, collider.Nearest(x[p], t).distance);
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      least = std::min(least, colliders_[k].Nearest(x[p], placed[k].displacement).distance);
+    }
   }
   return least;
 }
 
-void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) {
-  // Second-order Runge–Kutta (midpoint).
+void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v,
+                               std::vector<Placement>& placed) {
+  // Second-order Runge–Kutta (midpoint), free balls with the cloth.
   if (contacts_) contacts_->Update(x_);
-  Accelerations(x_, v_, time_, dt, a1_);
+  Accelerations(x_, v_, placed_, dt, a1_, push_start_);
   x_mid_.resize(x_.size());
   v_mid_.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
     x_mid_[p] = x_[p] + 0.5f * dt * v_[p];
     v_mid_[p] = v_[p] + 0.5f * dt * a1_[p];
   }
+  PlaceColliders(0.5f * dt, placed_, push_start_, placed_mid_);
   if (contacts_) contacts_->Update(x_mid_);
-  Accelerations(x_mid_, v_mid_, time_ + 0.5 * dt, dt, a2_);
+  Accelerations(x_mid_, v_mid_, placed_mid_, dt, a2_, push_mid_);
   x.resize(x_.size());
   v.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
     x[p] = x_[p] + dt * v_mid_[p];
     v[p] = v_[p] + dt * a2_[p];
   }
+  PlaceColliders(dt, placed_mid_, push_mid_, placed);
   Smooth(dt, x, v);
   MovePins(time_ + dt, x, v);
 }
@@ -475,12 +544,16 @@ void KnitSimulation::Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm
 void KnitSimulation::Advance(float duration, float max_step) {
   if (!(max_step > 0.0f)) throw Error(ErrorCode::kInvalidArgument, "knit simulation: max_step must be > 0");
   std::vector<glm::vec3> x, v;
+  std::vector<Placement> placed;
   const double end = time_ + duration;
   while (time_ < end) {
     if (contacts_) contacts_->Update(x_);
     double until = end;  // the step ends at the next release
     for (const Pinned& pin : pins_) {
       if (pin.release > time_) until = std::min(until, pin.release);
+    }
+    for (const Body& body : bodies_) {
+      if (body.mass > 0.0f && body.release > time_) until = std::min(until, body.release);
     }
     float dt = std::min({max_step, StableStep(), static_cast<float>(until - time_)});
     if (!(dt >= kShortestStep) && until - time_ >= kShortestStep) {
@@ -493,9 +566,9 @@ void KnitSimulation::Advance(float duration, float max_step) {
     // cloth's triangles; halve the step until it does.
     float self_distance = 0.0f;
     for (int halving = 0;; ++halving) {
-      Integrate(dt, x, v);
+      Integrate(dt, x, v, placed);
       if (contacts_) contacts_->Update(x);
-      if (!Penetrates(x, time_ + dt, self_distance)) break;
+      if (!Penetrates(x, placed, self_distance)) break;
       if (halving == mechanics_.max_halvings) {
         ++counts_.penetrations;
         break;
@@ -505,9 +578,18 @@ void KnitSimulation::Advance(float duration, float max_step) {
     }
     x_.swap(x);
     v_.swap(v);
-    // A pin released now leaves its point with the velocity of its last step.
+    placed_.swap(placed);
+    // A pin or ball released now leaves with the velocity of its last step.
     const double previous = time_;
     time_ = until - time_ <= dt ? until : time_ + dt;
+    for (size_t k = 0; k < colliders_.size(); ++k) {
+      const Motion& motion = colliders_[k].motion();
+      if (!MovesFreely(k)) {
+        placed_[k] = {motion.Displacement(time_), motion.Velocity(time_)};
+      } else if (bodies_[k].release > previous) {
+        placed_[k].velocity = motion.Velocity(previous);
+      }
+    }
     for (size_t k = 0; k < pins_.size();) {
       if (pins_[k].release <= time_) {
         pinned_[pins_[k].index] = 0;
@@ -517,7 +599,7 @@ void KnitSimulation::Advance(float duration, float max_step) {
         ++k;
       }
     }
-    min_distance_ = std::min(min_distance_, ColliderDistance(x_, time_));
+    min_distance_ = std::min(min_distance_, ColliderDistance(x_, placed_));
     if (contacts_) {
       // A step taken though it penetrates a collider was not checked against the cloth.
       if (std::isnan(self_distance)) self_distance = CrossCloth(x_).least;

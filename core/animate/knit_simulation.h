@@ -8,8 +8,9 @@
 // length while it would carry a point into a collider or through one of the
 // cloth's triangles. Units, constants and derivations: docs/animation.md.
 //
-// Colliders and pinned points may move along prescribed motions. Not yet: mesh
-// colliders (docs/animation.md "Next").
+// Colliders and pinned points may move along prescribed motions, and a sphere
+// may be let go as a free ball the cloth pushes back (the paper's ball
+// rebounding off a scarf). Not yet: mesh colliders (docs/animation.md "Next").
 
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -92,6 +93,12 @@ class KnitSimulation {
   void Pin(size_t index, const Motion& motion = {}, double release = std::numeric_limits<double>::infinity());
   // Sets a free point's velocity (a throw).
   void SetVelocity(size_t index, glm::vec3 velocity);
+  // Collider `collider` (a sphere) moves along its motion until time `release`
+  // (seconds), then as a ball of `mass` point masses under gravity and the
+  // cloth's push and friction, from where its motion left it at the velocity it
+  // had. It does not turn; the colliders that are not free balls stop it
+  // (without friction or rebound).
+  void Free(size_t collider, float mass, double release = 0.0);
 
   // Advances the cloth by `duration` seconds in steps no longer than
   // `max_step` (a step ends at a pin's release).
@@ -102,6 +109,8 @@ class KnitSimulation {
   const KnitCloth& cloth() const { return cloth_; }
   const KnitMechanics& mechanics() const { return mechanics_; }
   const ThicknessField& field() const { return field_; }
+  // How far collider k has moved from where it was made, now.
+  glm::vec3 collider_displacement(size_t k) const { return placed_.at(k).displacement; }
   double time() const { return time_; }
   // ½ Σ |v|² over the points.
   double KineticEnergy() const;
@@ -115,12 +124,25 @@ class KnitSimulation {
   SimulationCounts counts() const;
 
  private:
+  // Where a collider is at one stage of a step, and its velocity.
+  struct Placement {
+    glm::vec3 displacement{0.0f}, velocity{0.0f};
+  };
   // The acceleration of every point at positions x and velocities v, for a step
-  // of length dt (friction stops at most what dt would carry on). The contact
-  // pairs must have been updated for x.
-  // The colliders are where they are at time t.
-  void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, double t, float dt,
-                     std::vector<glm::vec3>& a);
+  // of length dt (friction stops at most what dt would carry on), with the
+  // colliders placed at `placed`; `push` gets the force of the cloth on each
+  // collider. The contact pairs must have been updated for x.
+  void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                     const std::vector<Placement>& placed, float dt, std::vector<glm::vec3>& a,
+                     std::vector<glm::vec3>& push);
+  // Whether collider k moves as a free ball now.
+  bool MovesFreely(size_t k) const { return bodies_[k].mass > 0.0f && time_ >= bodies_[k].release; }
+  // The colliders a time h into the step: those on their motions where these
+  // have them; free balls moved from where they are now by `rates`' velocities
+  // and the accelerations gravity and `push` give them, then stopped by the
+  // other colliders.
+  void PlaceColliders(float h, const std::vector<Placement>& rates, const std::vector<glm::vec3>& push,
+                      std::vector<Placement>& out) const;
   // The self-contact forces and dynamic self-friction, added to a.
   void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
                       std::vector<glm::vec3>& a) const;
@@ -151,18 +173,28 @@ class KnitSimulation {
   // Whether a point farther than 0.02τ from a collider at the present positions
   // is nearer at x (inside it included), or CrossCloth(x) enters; self_distance
   // gets CrossCloth's least distance when it was asked (NaN when not).
-  bool Penetrates(const std::vector<glm::vec3>& x, double t, float& self_distance) const;
-  // The least signed distance from the points x to any collider.
-  float ColliderDistance(const std::vector<glm::vec3>& x, double t) const;
+  bool Penetrates(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed, float& self_distance) const;
+  // The least signed distance from the points x to any collider placed at `placed`.
+  float ColliderDistance(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed) const;
   // Moves the pinned points to where their motions have them at time t.
   void MovePins(double t, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v) const;
-  // One RK2 step of length dt from (x_, v_) into (x, v).
-  void Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
+  // One RK2 step of length dt from (x_, v_, placed_) into (x, v, placed).
+  void Integrate(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v, std::vector<Placement>& placed);
 
   KnitCloth cloth_;
   KnitMechanics mechanics_;
   ThicknessField field_;
   std::vector<Collider> colliders_;
+  struct Body {
+    float mass = 0.0f;  // 0: moved by its motion only
+    double release = 0.0;
+  };
+  std::vector<Body> bodies_;         // per collider
+  std::vector<Placement> placed_;    // per collider, now
+  // Of a step: the cloth's force on each collider at its start and its middle.
+  std::vector<glm::vec3> push_start_, push_mid_;
+  std::vector<glm::vec3> chunk_push_;  // per chunk of points and collider
+  std::vector<Placement> placed_mid_;
   ThicknessField self_friction_field_;
   std::unique_ptr<SelfContactPairs> contacts_;  // null without self-collision
   std::vector<Spring> springs_;

@@ -107,14 +107,15 @@ bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
   return true;
 }
 
-// A parsed glTF's first primitive and its morph-target animation, whose frames
-// are made one at a time (a render needs one of perhaps thousands).
+// A parsed glTF mesh's first primitive and its morph-target and translation
+// animations, whose frames are made one at a time (a render needs one of perhaps
+// thousands).
 class GltfSequence {
  public:
   // `base` is the directory of a local file (its external buffers are read from
   // there), or nothing for uploaded bytes.
   GltfSequence(const std::string& bytes, const std::filesystem::path& path,
-               const std::optional<std::filesystem::path>& base)
+               const std::optional<std::filesystem::path>& base, const std::string& mesh_name)
       : path_(path) {
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(SkipImage, nullptr);
@@ -132,31 +133,47 @@ class GltfSequence {
                                : loader.LoadASCIIFromString(&model_, &error, &warning, bytes.data(),
                                                             static_cast<unsigned>(bytes.size()), base_dir);
     if (!loaded) Fail(path, error.empty() ? "not a glTF file" : error);
-    if (model_.meshes.empty() || model_.meshes[0].primitives.empty()) Fail(path, "no mesh");
-    const tinygltf::Primitive& primitive = model_.meshes[0].primitives[0];
+    const int mesh = FindMesh(mesh_name);
+    if (model_.meshes[mesh].primitives.empty()) Fail(path, "no mesh");
+    const tinygltf::Primitive& primitive = model_.meshes[mesh].primitives[0];
     if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != -1) Fail(path, "the primitive is not triangles");
     ReadMesh(primitive);
-    ReadAnimation(primitive);
+    ReadAnimation(primitive, mesh);
   }
 
   const TriangleMesh& mesh() const { return mesh_; }
   const std::vector<float>& times() const { return times_; }
   size_t FrameCount() const { return times_.size(); }
 
-  // Frame k's positions: frame 0's plus each target's offset by its weight at key k.
+  // Frame k's positions: frame 0's plus each target's offset by its weight at key
+  // k, moved by the translation at key k.
   std::vector<glm::vec3> Positions(size_t k) const {
     std::vector<glm::vec3> frame = mesh_.positions;
-    if (targets_.empty()) return frame;
     for (size_t t = 0; t < targets_.size(); ++t) {
       const float weight = weights_[k * targets_.size() + t];
       if (weight == 0.0f) continue;
       const std::vector<glm::vec3> delta = ToVec3s(targets_[t].Copy());
       for (size_t v = 0; v < frame.size(); ++v) frame[v] += weight * delta[v];
     }
+    if (!translations_.empty()) {
+      for (glm::vec3& p : frame) p += translations_[k];
+    }
     return frame;
   }
 
  private:
+  // The mesh named `name`, or the first when it is empty.
+  int FindMesh(const std::string& name) const {
+    if (model_.meshes.empty()) Fail(path_, "no mesh");
+    if (name.empty()) return 0;
+    std::string names;
+    for (size_t m = 0; m < model_.meshes.size(); ++m) {
+      if (model_.meshes[m].name == name) return static_cast<int>(m);
+      names += (m == 0 ? "" : ", ") + ("'" + model_.meshes[m].name + "'");
+    }
+    Fail(path_, "no mesh named '" + name + "' (it has " + names + ")");
+  }
+
   void ReadMesh(const tinygltf::Primitive& primitive) {
     const auto position = primitive.attributes.find("POSITION");
     if (position == primitive.attributes.end()) Fail(path_, "the primitive has no POSITION");
@@ -178,20 +195,36 @@ class GltfSequence {
     }
   }
 
-  // The morph targets and the weights animation that plays them; without both,
-  // the mesh is a sequence of one frame at time 0.
-  void ReadAnimation(const tinygltf::Primitive& primitive) {
-    const tinygltf::AnimationSampler* weights = nullptr;
+  // The animations of the first node showing the mesh: the morph targets and
+  // the weights animation that plays them, and a translation animation; without
+  // either, the mesh is a sequence of one frame at time 0. Both, they must have
+  // the same keys.
+  void ReadAnimation(const tinygltf::Primitive& primitive, int mesh) {
+    int node = -1;
+    for (size_t n = 0; n < model_.nodes.size() && node < 0; ++n) {
+      if (model_.nodes[n].mesh == mesh) node = static_cast<int>(n);
+    }
+    const tinygltf::AnimationSampler *weights = nullptr, *translation = nullptr;
     for (const tinygltf::Animation& animation : model_.animations) {
       for (const tinygltf::AnimationChannel& channel : animation.channels) {
-        if (channel.target_path == "weights" && channel.sampler >= 0 &&
-            channel.sampler < static_cast<int>(animation.samplers.size())) {
-          weights = &animation.samplers[channel.sampler];
+        if (node < 0 || channel.target_node != node || channel.sampler < 0 ||
+            channel.sampler >= static_cast<int>(animation.samplers.size())) {
+          continue;
         }
+        if (channel.target_path == "weights") weights = &animation.samplers[channel.sampler];
+        if (channel.target_path == "translation") translation = &animation.samplers[channel.sampler];
       }
     }
+    times_ = {0.0f};
+    if (translation != nullptr) {
+      times_ = ReadAccessor<float>(model_, translation->input, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                   path_, "the translation's times");
+      translations_ = ToVec3s(ReadAccessor<float>(model_, translation->output, TINYGLTF_TYPE_VEC3,
+                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, path_, "the translations"));
+      if (translations_.size() != times_.size()) Fail(path_, "the translations are not one a key");
+    }
     if (weights == nullptr || primitive.targets.empty()) {
-      times_ = {0.0f};
+      if (times_.size() * mesh_.positions.size() > kMaxAnimationPoints) Fail(path_, "too many frames");
       return;
     }
     for (const auto& target : primitive.targets) {
@@ -201,8 +234,10 @@ class GltfSequence {
                                              TINYGLTF_COMPONENT_TYPE_FLOAT, path_, "a morph target"));
       if (targets_.back().count != mesh_.positions.size()) Fail(path_, "a morph target and POSITION differ in count");
     }
-    times_ = ReadAccessor<float>(model_, weights->input, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT, path_,
-                                 "the animation's times");
+    const std::vector<float> times = ReadAccessor<float>(model_, weights->input, TINYGLTF_TYPE_SCALAR,
+                                                         TINYGLTF_COMPONENT_TYPE_FLOAT, path_, "the animation's times");
+    if (translation != nullptr && times != times_) Fail(path_, "the weights and the translation have different keys");
+    times_ = times;
     weights_ = ReadAccessor<float>(model_, weights->output, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT, path_,
                                    "the animation's weights");
     if (weights_.size() != times_.size() * targets_.size()) Fail(path_, "the weights are not one a target a key");
@@ -214,6 +249,7 @@ class GltfSequence {
   TriangleMesh mesh_;
   std::vector<AccessorView<float>> targets_;  // into model_'s buffers
   std::vector<float> times_, weights_;        // weights_: one a target a key
+  std::vector<glm::vec3> translations_;       // one a key, or none
 };
 
 MeshSequence WholeSequence(const GltfSequence& gltf) {
@@ -233,16 +269,17 @@ void CheckFrame(size_t frame, size_t frames, const std::string& name) {
 
 }  // namespace
 
-MeshSequence ReadGltfSequence(const std::filesystem::path& path) {
-  return WholeSequence(GltfSequence(ReadFile(path), path, path.parent_path()));
+MeshSequence ReadGltfSequence(const std::filesystem::path& path, const std::string& mesh_name) {
+  return WholeSequence(GltfSequence(ReadFile(path), path, path.parent_path(), mesh_name));
 }
 
-MeshSequence ParseGltfSequence(const std::string& bytes, const std::string& name) {
-  return WholeSequence(GltfSequence(bytes, name, std::nullopt));
+MeshSequence ParseGltfSequence(const std::string& bytes, const std::string& name, const std::string& mesh_name) {
+  return WholeSequence(GltfSequence(bytes, name, std::nullopt, mesh_name));
 }
 
-TriangleMesh ParseGltfFrame(const std::string& bytes, size_t frame, const std::string& name) {
-  const GltfSequence gltf(bytes, name, std::nullopt);
+TriangleMesh ParseGltfFrame(const std::string& bytes, size_t frame, const std::string& name,
+                            const std::string& mesh_name) {
+  const GltfSequence gltf(bytes, name, std::nullopt, mesh_name);
   CheckFrame(frame, gltf.FrameCount(), name);
   TriangleMesh mesh = gltf.mesh();
   mesh.positions = gltf.Positions(frame);

@@ -58,8 +58,8 @@ void CheckWithinLimits(const TriangleMesh& mesh, const MeshLimits& left, const s
 // first bytes, LooksLikeGltf) gathered whole and read at the end.
 class MeshFileParser {
  public:
-  MeshFileParser(std::string label, const MeshLimits& left, uint32_t frame)
-      : label_(std::move(label)), left_(left), frame_(frame) {}
+  MeshFileParser(std::string label, const MeshLimits& left, const v1::MeshRef& ref)
+      : label_(std::move(label)), left_(left), frame_(ref.frame()), gltf_mesh_(ref.gltf_mesh()) {}
 
   void Feed(std::string_view piece) {
     if (obj_) return obj_->Feed(piece);
@@ -71,9 +71,10 @@ class MeshFileParser {
     if (!obj_ && !gltf_) Decide();
     if (obj_) {
       if (frame_ > 0) Fail("frame " + std::to_string(frame_) + " of an OBJ mesh (frames belong to glTF sequences)");
+      if (!gltf_mesh_.empty()) Fail("gltf_mesh '" + gltf_mesh_ + "' of an OBJ mesh");
       return obj_->Finish();
     }
-    TriangleMesh mesh = ParseGltfFrame(head_, frame_, "mesh " + label_);
+    TriangleMesh mesh = ParseGltfFrame(head_, frame_, "mesh " + label_, gltf_mesh_);
     CheckWithinLimits(mesh, left_, label_);
     return mesh;
   }
@@ -95,6 +96,7 @@ class MeshFileParser {
   const std::string label_;
   const MeshLimits left_;
   const uint32_t frame_;
+  const std::string gltf_mesh_;
   std::string head_;  // the bytes so far, until the format is known; all of a glTF's
   bool gltf_ = false;
   std::unique_ptr<ObjParser> obj_;
@@ -143,7 +145,7 @@ std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const Mesh
       built.mesh = BuiltinMesh(ref.builtin(), segments);
       CheckWithinLimits(built.mesh, left, label);
     } else {
-      MeshFileParser parser(label, left, ref.frame());
+      MeshFileParser parser(label, left, ref);
       resolve(ref, [&parser](std::string_view piece) { parser.Feed(piece); });
       built.mesh = parser.Finish();
     }

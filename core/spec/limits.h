@@ -176,6 +176,7 @@ inline constexpr float kMaxLoopSpacing = 100.0f;
 // positions lose the field's fraction of a loop.
 inline constexpr float kMaxAnimationCoordinate = 100000.0f;
 inline constexpr float kMaxColliderSize = 10000.0f;
+inline constexpr float kMaxBallMass = 1e6f;  // in loop masses
 inline constexpr float kMaxAnimationSpeed = 1000.0f;
 inline constexpr int kMaxPins = 4096;
 inline constexpr int kMaxColliders = 64;

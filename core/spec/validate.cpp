@@ -447,6 +447,11 @@ void CheckMesh(const v1::MeshRef& mesh, const IssueCollector& at) {
       (mesh.source_case() == v1::MeshRef::kBuiltin || mesh.source_case() == v1::MeshRef::kObjPath)) {
     at.Report("frame", "applies to glTF mesh sequences only");
   }
+  at.Length("gltf_mesh", mesh.gltf_mesh(), kMaxNameLength);
+  if (!mesh.gltf_mesh().empty() &&
+      (mesh.source_case() == v1::MeshRef::kBuiltin || mesh.source_case() == v1::MeshRef::kObjPath)) {
+    at.Report("gltf_mesh", "applies to glTF meshes only");
+  }
   at.Max("segments", mesh.segments(), kMaxSegments);
 }
 
@@ -611,6 +616,13 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
       CheckCoordinates(at.Field("sphere"), "centre", collider.sphere().centre(), kMaxAnimationCoordinate);
       at.Field("sphere").Above("radius", collider.sphere().radius(), 0.0f);
       at.Field("sphere").Max("radius", collider.sphere().radius(), kMaxColliderSize);
+      at.Field("sphere").Min("mass", collider.sphere().mass(), 0.0f);
+      at.Field("sphere").Max("mass", collider.sphere().mass(), kMaxBallMass);
+      at.Field("sphere").Min("release_seconds", collider.sphere().release_seconds(), 0.0f);
+      at.Field("sphere").Max("release_seconds", collider.sphere().release_seconds(), duration, "duration_seconds");
+      if (collider.sphere().release_seconds() > 0.0f && collider.sphere().mass() == 0.0f) {
+        at.Field("sphere").Report("release_seconds", "lets go a sphere without a mass (set mass)");
+      }
       break;
     case v1::ColliderSpec::kBox:
       CheckCoordinates(at.Field("box"), "centre", collider.box().centre(), kMaxAnimationCoordinate);

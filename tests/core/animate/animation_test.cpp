@@ -87,6 +87,57 @@ TEST(ClothSequence, GltfRoundTripKeepsEveryFrame) {
   EXPECT_EQ(ReadGltfSequence(dir / "cloth.gltf").frames.back(), read.frames.back());
 }
 
+// A 6 × 6 patch on a floor, and a ball carried along +x at 5 loops/s for 0.1 s
+// above it, then let go; 0.4 s.
+v1::AnimationSpec BallOverPatch() {
+  return ParseSpecJson<v1::AnimationSpec>(R"({
+    "cloth": {"loops": 6, "courses": 6, "origin": {"x": -2.5, "y": -2.5, "z": 0.6}},
+    "colliders": [{"plane": {"point": {}, "normal": {"z": 1}}},
+                  {"sphere": {"centre": {"z": 4}, "radius": 1.5, "mass": 10, "release_seconds": 0.1},
+                   "motion": [{"velocity": {"x": 5}, "end_seconds": 0.2}]}],
+    "duration_seconds": 0.4
+  })",
+                                          "animation");
+}
+
+TEST(ClothSequence, BallsMoveInTheGltfAsTheyMovedInTheSimulation) {
+  const ClothAnimation animation = RunAnimation(BallOverPatch());
+  ASSERT_EQ(animation.collider_tracks.size(), 2u);
+  const std::vector<glm::vec3>& ball = animation.collider_tracks[1];
+  ASSERT_EQ(ball.size(), 11u);
+  // Carried until 0.1 s, then falling freely from there at 5 loops/s along x.
+  EXPECT_NEAR(ball[2].x, 0.4f, 1e-5f);
+  EXPECT_NEAR(ball[2].z, 0.0f, 1e-6f);
+  EXPECT_NEAR(ball[10].x, 2.0f, 1e-3f);
+  EXPECT_NEAR(ball[10].z, -0.5f * 9.81f * 0.09f, 1e-3f);
+  EXPECT_EQ(animation.collider_tracks[0].back(), glm::vec3(0.0f));
+
+  const auto path = ScratchDir("ball") / "ball.glb";
+  WriteGltfSequence(ClothSequence(animation), path, SolidTracks(animation));
+  // The first mesh is still the cloth…
+  EXPECT_EQ(ReadGltfSequence(path).frames.back(), ReadGltfSequence(path, "cloth").frames.back());
+  EXPECT_EQ(ReadGltfSequence(path).mesh.positions.size(), 36u);
+  // …and the ball's mesh is a sphere of its radius about where it was at each frame.
+  const MeshSequence read = ReadGltfSequence(path, "collider_1");
+  ASSERT_EQ(read.frames.size(), 11u);
+  for (const size_t k : {0u, 2u, 10u}) {
+    Bounds bounds;
+    bounds.Add(read.frames[k]);
+    EXPECT_NEAR(glm::distance(bounds.centre(), glm::vec3(0, 0, 4) + ball[k]), 0.0f, 1e-4f) << k;
+    EXPECT_NEAR(bounds.high.z - bounds.low.z, 3.0f, 1e-4f);
+  }
+  EXPECT_EQ(ParseGltfFrame(ReadFile(path), 10, "upload", "collider_1").positions, read.frames[10]);
+  // The floor has no mesh; asking for it names what there is.
+  try {
+    ReadGltfSequence(path, "collider_0");
+    FAIL() << "a plane's mesh was read";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("no mesh named 'collider_0' (it has 'cloth', 'collider_1')"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(ClothSequence, RefusesBrokenGltfNamingTheFile) {
   const auto path = ScratchDir("broken") / "broken.glb";
   {

@@ -300,5 +300,102 @@ TEST(KnitSimulation, StopsWithAnErrorWhenDrivenPastWhatItFollows) {
   }
 }
 
+TEST(KnitSimulation, ABallHeldByItsMotionFallsFreelyOnceLetGo) {
+  // Carried along +x at 1 loop/s, let go at 0.5 s; nothing under it.
+  const KnitCloth cloth = FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(100, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, KnitMechanics{},
+                     {Collider::Sphere(glm::vec3(0, 0, 50), 2.0f).Moving(Motion{glm::vec3(1, 0, 0), 0.0, 10.0})});
+  for (size_t p = 0; p < 4; ++p) sim.Pin(p);
+  sim.Free(0, 10.0f, 0.5);
+  sim.Advance(0.5f, 0.04f);
+  EXPECT_NEAR(sim.collider_displacement(0).x, 0.5f, 1e-5f);
+  EXPECT_NEAR(sim.collider_displacement(0).z, 0.0f, 1e-6f);
+  sim.Advance(1.0f, 0.04f);
+  // Midpoint steps are exact under a constant acceleration.
+  EXPECT_NEAR(sim.collider_displacement(0).x, 1.5f, 1e-4f);
+  EXPECT_NEAR(sim.collider_displacement(0).z, -0.5f * 9.81f, 1e-3f);
+  EXPECT_THROW(sim.Free(1, 1.0f), Error);
+}
+
+TEST(KnitSimulation, OnlyASphereWithMassCanBeLetGo) {
+  const KnitCloth cloth = FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, KnitMechanics{},
+                     {Collider::Plane(glm::vec3(0, 0, -5), glm::vec3(0, 0, 1)), Collider::Sphere(glm::vec3(0, 0, 9), 1)});
+  EXPECT_THROW(sim.Free(0, 1.0f), Error);
+  EXPECT_THROW(sim.Free(1, 0.0f), Error);
+  EXPECT_NO_THROW(sim.Free(1, 1.0f));
+}
+
+TEST(KnitSimulation, ABallComesToRestOnAFloorWithoutSinkingIn) {
+  const KnitCloth cloth = FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(100, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  KnitSimulation sim(cloth, KnitMechanics{},
+                     {Collider::Plane(glm::vec3(0), glm::vec3(0, 0, 1)), Collider::Sphere(glm::vec3(0, 0, 6), 2.0f)});
+  for (size_t p = 0; p < 4; ++p) sim.Pin(p);
+  sim.Free(1, 10.0f);
+  sim.Advance(3.0f, 0.04f);
+  EXPECT_NEAR(sim.collider_displacement(1).z, -4.0f, 1e-4f);  // its centre one radius above the floor
+}
+
+// A ball of `mass` dropped (or thrown down at `speed`) from 2 loops above the
+// middle of a 15 × 15 cloth held at its edges (a trampoline).
+struct Landing {
+  float lowest = 0.0f;   // the ball's centre's lowest height
+  float highest = 0.0f;  // and its highest after that
+  float rest_mean = 0.0f, rest_range = 0.0f;  // over the last 2 s
+  float least_distance = 0.0f;                // of a free loop to the ball
+};
+Landing DropOnTrampoline(float mass, float speed, float seconds) {
+  const KnitCloth cloth = FlatKnitCloth(15, 15, 1.0f, 1.0f, glm::vec3(-7, -7, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  const Motion throw_down(glm::vec3(0, 0, -speed), 0.0, 0.01);
+  KnitSimulation sim(cloth, KnitMechanics{}, {Collider::Sphere(glm::vec3(0, 0, 5), 3.0f).Moving(throw_down)});
+  for (int j = 0; j < 15; ++j) {
+    for (int i = 0; i < 15; ++i) {
+      if (i == 0 || j == 0 || i == 14 || j == 14) sim.Pin(cloth.Index(i, j));
+    }
+  }
+  sim.Free(0, mass, 0.01);
+  Landing landing{5.0f, -1e9f, 0.0f, 0.0f, 0.0f};
+  float rest_low = 1e9f, rest_high = -1e9f;
+  int rest_samples = 0;
+  for (int k = 1; k * 0.05f <= seconds + 1e-4f; ++k) {
+    sim.Advance(0.05f, 0.04f);
+    const float z = 5.0f + sim.collider_displacement(0).z;
+    if (z < landing.lowest) landing.lowest = z, landing.highest = z;
+    landing.highest = std::max(landing.highest, z);
+    if (k * 0.05f > seconds - 2.0f) {
+      landing.rest_mean += z, ++rest_samples;
+      rest_low = std::min(rest_low, z), rest_high = std::max(rest_high, z);
+    }
+  }
+  EXPECT_EQ(sim.counts().penetrations, 0);
+  landing.rest_mean /= static_cast<float>(rest_samples);
+  landing.rest_range = rest_high - rest_low;
+  landing.least_distance = sim.min_collider_distance();
+  return landing;
+}
+
+TEST(KnitSimulation, AClothCarriesABallThatFallsOnIt) {
+  // The ball comes to rest on the cloth, the cloth sagging under it more the
+  // heavier it is: the cloth's push is what holds it up (a ball the cloth did
+  // not push back would fall through, below −7).
+  const Landing light = DropOnTrampoline(20.0f, 0.0f, 12.0f), heavy = DropOnTrampoline(200.0f, 0.0f, 12.0f);
+  EXPECT_GT(light.least_distance, 0.0f);
+  EXPECT_GT(heavy.least_distance, 0.0f);
+  EXPECT_LT(light.rest_range, 0.1f);
+  EXPECT_GT(light.rest_mean, -1.0f);
+  EXPECT_LT(light.rest_mean, 2.0f);
+  EXPECT_LT(heavy.rest_mean, light.rest_mean - 0.5f);
+  EXPECT_GT(heavy.lowest, -7.0f);
+}
+
+TEST(KnitSimulation, ABallThrownAtAClothRebounds) {
+  // Thrown down at 30 loops/s, the ball is thrown back up by the cloth's
+  // springs and field, some of its energy lost to the fibre layer and the air.
+  const Landing landing = DropOnTrampoline(20.0f, 30.0f, 2.0f);
+  EXPECT_GT(landing.highest - landing.lowest, 4.0f);
+  EXPECT_LT(landing.highest - landing.lowest, (30.0f * 30.0f / 2.0f) / 9.81f);
+  EXPECT_GT(landing.least_distance, 0.0f);
+}
+
 }  // namespace
 }  // namespace loom::animate

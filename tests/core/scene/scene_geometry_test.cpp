@@ -84,7 +84,9 @@ TEST(SceneGeometry, GltfSequenceFramesAndObjsAreToldApartWhateverThePieces) {
   sequence.frames = {sequence.mesh.positions, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
   sequence.times = {0.0f, 0.04f};
   const auto path = std::filesystem::path(::testing::TempDir()) / "scene_geometry_test_sequence.glb";
-  animate::WriteGltfSequence(sequence, path);
+  // With a second mesh, "ball", moved up 2 at frame 1.
+  animate::RigidTrack ball{"ball", sequence.mesh, {glm::vec3(0), glm::vec3(0, 0, 2)}};
+  animate::WriteGltfSequence(sequence, path, {ball});
   const std::string glb = ReadFile(path);
 
   const char* const json = R"({"objects": [{"mesh": {"gltf_path": "cloth.glb", "frame": %d}}],
@@ -102,6 +104,21 @@ TEST(SceneGeometry, GltfSequenceFramesAndObjsAreToldApartWhateverThePieces) {
     FAIL() << "frame 2 of 2 was read";
   } catch (const Error& error) {
     EXPECT_EQ(std::string(error.what()), "mesh scene.objects[0]: frame 2 of a sequence of 2 frame(s)");
+  }
+  // The mesh asked for by name, at the frame asked for.
+  const auto named = [&](const char* mesh) {
+    return Scene((R"({"objects": [{"mesh": {"gltf_path": "cloth.glb", "frame": 1, "gltf_mesh": ")" + std::string(mesh) +
+                  R"("}}], "camera": {"position": {"x": 0, "y": -3, "z": 1}}})")
+                     .c_str());
+  };
+  EXPECT_EQ(BuildSceneGeometry(named("ball"), Bytewise(glb))[0].mesh.positions[1], glm::vec3(1, 0, 2));
+  EXPECT_EQ(BuildSceneGeometry(named("cloth"), Bytewise(glb))[0].mesh.positions[1], glm::vec3(1, 0, 1));
+  try {
+    BuildSceneGeometry(named("lamp"), Bytewise(glb));
+    FAIL() << "a mesh the file does not have was read";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("no mesh named 'lamp' (it has 'cloth', 'ball')"), std::string::npos)
+        << error.what();
   }
   // An OBJ shorter than the bytes that tell the formats apart, a byte at a time.
   const auto obj = BuildSceneGeometry(Scene(R"({"objects": [{"mesh": {"obj_path": "t.obj"}}],
