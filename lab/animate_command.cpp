@@ -47,8 +47,19 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
             }
             const auto& counts = animation.counts;
             const size_t triangles = 2 * size_t(animation.cloth.across - 1) * (animation.cloth.along - 1);
+            // Each sphere's centre: its lowest height, and where it ends.
+            nlohmann::json spheres = nlohmann::json::array();
+            for (size_t k = 0; k < animation.colliders.size(); ++k) {
+              if (!animation.colliders[k].sphere()) continue;
+              const std::vector<glm::vec3>& track = animation.collider_tracks[k];
+              float lowest = std::numeric_limits<float>::infinity();
+              for (const glm::vec3& moved : track) lowest = std::min(lowest, animation.colliders[k].centre().z + moved.z);
+              const glm::vec3 end = animation.colliders[k].centre() + track.back();
+              spheres.push_back({{"collider", k}, {"lowest_centre_z", lowest}, {"final_centre", {end.x, end.y, end.z}}});
+            }
             if (flags.json) {
               PrintJson({{"loops", animation.cloth.size()},
+                         {"spheres", spheres},
                          {"triangles", triangles},
                          {"frames", animation.frames.size() - 1},
                          {"simulated_seconds", (animation.frames.size() - 1) / animation.frames_per_second},
