@@ -104,6 +104,8 @@ KnitSimulation::KnitSimulation(const KnitCloth& cloth, const KnitMechanics& mech
                                                    mechanics_.self_exclusion, mechanics_.threads);
     contacts_->Update(x_);
     min_self_distance_ = CrossCloth(x_).least;
+    present_closest_.swap(next_closest_);
+    present_closest_search_ = next_closest_search_;
   }
 }
 
@@ -186,8 +188,8 @@ double KnitSimulation::KineticEnergy() const {
 }
 
 void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
-                                   const std::vector<Placement>& placed, float dt, std::vector<glm::vec3>& a,
-                                   std::vector<glm::vec3>& push) {
+                                   const std::vector<Placement>& placed, const std::vector<PairGeometry>& closest,
+                                   float dt, std::vector<glm::vec3>& a, std::vector<glm::vec3>& push) {
   // Each spring's and angle's forces into its slots of contributions_, then each
   // point's sum of its slots: both in parallel, and the sums in a fixed order
   // whatever the thread count.
@@ -219,7 +221,7 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
       a[p] = sum;
     }
   });
-  if (contacts_) AddSelfContact(x, v, dt, a);
+  if (contacts_) AddSelfContact(x, v, closest, dt, a);
   // The colliders' fields push along their normals; friction opposes what else
   // would move the point along the surface (eq. 3 and the static threshold
   // K_s·|F|). What a collider does to a point (of unit mass) it feels the
@@ -260,7 +262,8 @@ void KnitSimulation::Accelerations(const std::vector<glm::vec3>& x, const std::v
   }
 }
 
-void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
+void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                                    const std::vector<PairGeometry>& closest, float dt,
                                     std::vector<glm::vec3>& a) const {
   // A point feels the layer of cloth nearest it on each side: of its pairs
   // within T whose offset from the triangle's nearest point lies within the
@@ -310,9 +313,10 @@ void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::
     for (size_t g = chunk * kPairChunk, end = std::min(points, g + kPairChunk); g < end; ++g) {
       const uint32_t point = pairs[starts[g]].point;
       for (size_t k = starts[g]; k < starts[g + 1]; ++k) {
+        const TrianglePoint& q = closest[k].nearest;
+        if (q.weights == glm::vec3(0.0f)) continue;
         const uint32_t triangle = pairs[k].triangle;
         const glm::uvec3 t = triangles[triangle];
-        const TrianglePoint q = ClosestPointOnTriangle(x[point], x[t.x], x[t.y], x[t.z]);
         const glm::vec3 offset = x[point] - q.point;
         const float d = glm::length(offset);
         if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
@@ -337,7 +341,34 @@ void KnitSimulation::AddSelfContact(const std::vector<glm::vec3>& x, const std::
   }
 }
 
-float KnitSimulation::StableStep() const {
+void KnitSimulation::ClosestPoints(const std::vector<glm::vec3>& x, std::vector<PairGeometry>& out) const {
+  const std::vector<PointTriangle>& pairs = contacts_->pairs();
+  const std::vector<glm::uvec3>& triangles = contacts_->triangles();
+  const float reach2 = field_.half_thickness() * field_.half_thickness();
+  out.resize(pairs.size());
+  ParallelFor((pairs.size() + kPairChunk - 1) / kPairChunk, threads_, [&](size_t chunk, unsigned) {
+    for (size_t i = chunk * kPairChunk, end = std::min(pairs.size(), i + kPairChunk); i < end; ++i) {
+      const glm::uvec3 t = triangles[pairs[i].triangle];
+      const glm::vec3 p = x[pairs[i].point];
+      const glm::vec3 normal = glm::cross(x[t.y] - x[t.x], x[t.z] - x[t.x]);
+      const float side = glm::dot(p - x[t.x], normal), area2 = glm::dot(normal, normal);
+      out[i].nearest = area2 > 0.0f && side * side >= reach2 * area2
+                           ? TrianglePoint{}
+                           : ClosestPointOnTriangle(p, x[t.x], x[t.y], x[t.z]);
+      out[i].side = side;
+    }
+  });
+}
+
+const std::vector<KnitSimulation::PairGeometry>& KnitSimulation::PresentClosestPoints() {
+  if (present_closest_search_ != contacts_->searches()) {
+    ClosestPoints(x_, present_closest_);
+    present_closest_search_ = contacts_->searches();
+  }
+  return present_closest_;
+}
+
+float KnitSimulation::StableStep() {
   // ω² of a point: the stiffness of everything acting on it (unit mass). An
   // angle force of constant c and arm r moves its middle point with stiffness
   // about 4c/r.
@@ -370,15 +401,17 @@ float KnitSimulation::StableStep() const {
     // Each pair's stiffness and closing speed in parallel (the closest points are
     // the work), then added up in the pairs' order.
     const std::vector<PointTriangle>& pairs = contacts_->pairs();
+    const std::vector<PairGeometry>& closest = PresentClosestPoints();
     struct PairStiffness {
       float k = 0.0f, d = 0.0f, closing = 0.0f;  // d = 0: not within the field
     };
     std::vector<PairStiffness> per_pair(pairs.size());
     ParallelFor((pairs.size() + kPairChunk - 1) / kPairChunk, threads_, [&](size_t chunk, unsigned) {
       for (size_t i = chunk * kPairChunk, end = std::min(pairs.size(), i + kPairChunk); i < end; ++i) {
+        const TrianglePoint& q = closest[i].nearest;
+        if (q.weights == glm::vec3(0.0f)) continue;
         const glm::uvec3 t = contacts_->triangles()[pairs[i].triangle];
         const glm::vec3 x = x_[pairs[i].point];
-        const TrianglePoint q = ClosestPointOnTriangle(x, x_[t.x], x_[t.y], x_[t.z]);
         const float d = glm::distance(x, q.point);
         if (d >= field_.half_thickness() || !(d > 0.0f)) continue;
         const glm::vec3 w = q.weights;
@@ -420,25 +453,31 @@ float KnitSimulation::StableStep() const {
   return step;
 }
 
-KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::vec3>& x) const {
+KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::vec3>& x) {
   const std::vector<glm::uvec3>& triangles = contacts_->triangles();
   const std::vector<PointTriangle>& pairs = contacts_->pairs();
   const float nearest_field = kNearestField * field_.core();
-  // Whether the pair's point enters its triangle's field or crosses it; `least`
-  // keeps its distance at x.
-  const auto enters = [&](const PointTriangle& pair, float& least) {
+  ClosestPoints(x, next_closest_);
+  next_closest_search_ = contacts_->searches();
+  // The sides at the present positions, kept unless the pairs were searched again.
+  const bool kept = present_closest_search_ == contacts_->searches();
+  // Whether pair i's point enters its triangle's field or crosses it; `least`
+  // keeps its distance at x when within the field.
+  const auto enters = [&](size_t i, float& least) {
+    const PointTriangle& pair = pairs[i];
     const glm::uvec3 t = triangles[pair.triangle];
     const size_t p = pair.point;
-    const auto distance = [&](const std::vector<glm::vec3>& y) {
-      return glm::distance(y[p], ClosestPointOnTriangle(y[p], y[t.x], y[t.y], y[t.z]).point);
-    };
-    const float d = distance(x);
-    least = std::min(least, d);
-    if (d < nearest_field && distance(x_) >= nearest_field) return true;
-    const auto side = [&](const std::vector<glm::vec3>& y) {
-      return glm::dot(y[p] - y[t.x], glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x]));
-    };
-    const float before = side(x_), after = side(x);
+    if (next_closest_[i].nearest.weights != glm::vec3(0.0f)) {
+      const float d = glm::distance(x[p], next_closest_[i].nearest.point);
+      least = std::min(least, d);
+      if (d < nearest_field &&
+          glm::distance(x_[p], ClosestPointOnTriangle(x_[p], x_[t.x], x_[t.y], x_[t.z]).point) >= nearest_field) {
+        return true;
+      }
+    }
+    const float before = kept ? present_closest_[i].side
+                              : glm::dot(x_[p] - x_[t.x], glm::cross(x_[t.y] - x_[t.x], x_[t.z] - x_[t.x]));
+    const float after = next_closest_[i].side;
     if (before == 0.0f || (before > 0.0f) == (after > 0.0f)) return false;
     // Where the point meets the plane, taking the motion as linear.
     const float s = before / (before - after);
@@ -451,7 +490,7 @@ KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::
   std::atomic<bool> entered{false};
   ParallelFor(chunks, threads_, [&](size_t chunk, unsigned) {
     for (size_t i = chunk * kPairChunk, end = std::min(pairs.size(), i + kPairChunk); i < end; ++i) {
-      if (enters(pairs[i], least[chunk])) entered = true;
+      if (enters(i, least[chunk])) entered = true;
     }
   });
   return {entered, least.empty() ? std::numeric_limits<float>::infinity()
@@ -459,7 +498,7 @@ KnitSimulation::ClothCrossing KnitSimulation::CrossCloth(const std::vector<glm::
 }
 
 bool KnitSimulation::Penetrates(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed,
-                                float& self_distance) const {
+                                float& self_distance) {
   const float nearest_field = kNearestField * field_.core();
   self_distance = std::numeric_limits<float>::quiet_NaN();
   for (size_t p = 0; p < x.size(); ++p) {
@@ -492,7 +531,8 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<
                                std::vector<Placement>& placed) {
   // Second-order Runge–Kutta (midpoint), free balls with the cloth.
   if (contacts_) contacts_->Update(x_);
-  Accelerations(x_, v_, placed_, dt, a1_, push_start_);
+  static const std::vector<PairGeometry> kNone;
+  Accelerations(x_, v_, placed_, contacts_ ? PresentClosestPoints() : kNone, dt, a1_, push_start_);
   x_mid_.resize(x_.size());
   v_mid_.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
@@ -500,8 +540,11 @@ void KnitSimulation::Integrate(float dt, std::vector<glm::vec3>& x, std::vector<
     v_mid_[p] = v_[p] + 0.5f * dt * a1_[p];
   }
   PlaceColliders(0.5f * dt, placed_, push_start_, placed_mid_);
-  if (contacts_) contacts_->Update(x_mid_);
-  Accelerations(x_mid_, v_mid_, placed_mid_, dt, a2_, push_mid_);
+  if (contacts_) {
+    contacts_->Update(x_mid_);
+    ClosestPoints(x_mid_, mid_closest_);
+  }
+  Accelerations(x_mid_, v_mid_, placed_mid_, mid_closest_, dt, a2_, push_mid_);
   x.resize(x_.size());
   v.resize(x_.size());
   for (size_t p = 0; p < x_.size(); ++p) {
@@ -579,6 +622,14 @@ void KnitSimulation::Advance(float duration, float max_step) {
     x_.swap(x);
     v_.swap(v);
     placed_.swap(placed);
+    // The crossing check of the step taken found the closest points at x_ (unless
+    // a collider's penetration cut it short).
+    if (contacts_ && !std::isnan(self_distance)) {
+      present_closest_.swap(next_closest_);
+      present_closest_search_ = next_closest_search_;
+    } else {
+      present_closest_search_ = -1;
+    }
     // A pin or ball released now leaves with the velocity of its last step.
     const double previous = time_;
     time_ = until - time_ <= dt ? until : time_ + dt;

@@ -18,6 +18,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/animate/closest_point.h"
 #include "core/animate/collider.h"
 #include "core/animate/knit_cloth.h"
 #include "core/animate/knit_forces.h"
@@ -65,7 +66,7 @@ struct KnitMechanics {
   float cone_degrees = 45.0f;
   int self_exclusion = 2;
   // Point–triangle pairs are searched again once a point has moved half this.
-  float contact_skin = 0.5f;
+  float contact_skin = 0.3f;
   // The smoothing filter: after each step a point's displacement and velocity
   // move towards the mean of its grid neighbours' by 1 − e^{−rate·dt}.
   float smoothing_rate = 2.0f;
@@ -124,6 +125,13 @@ class KnitSimulation {
   SimulationCounts counts() const;
 
  private:
+  // A contact pair at some positions: the nearest point of its triangle to its
+  // point, and the point's side of the triangle's plane (the sign of
+  // (p − a)·((b − a) × (c − a))).
+  struct PairGeometry {
+    TrianglePoint nearest;
+    float side = 0.0f;
+  };
   // Where a collider is at one stage of a step, and its velocity.
   struct Placement {
     glm::vec3 displacement{0.0f}, velocity{0.0f};
@@ -131,10 +139,11 @@ class KnitSimulation {
   // The acceleration of every point at positions x and velocities v, for a step
   // of length dt (friction stops at most what dt would carry on), with the
   // colliders placed at `placed`; `push` gets the force of the cloth on each
-  // collider. The contact pairs must have been updated for x.
+  // collider. The contact pairs must have been updated for x, and `closest` be
+  // their ClosestPoints at x.
   void Accelerations(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
-                     const std::vector<Placement>& placed, float dt, std::vector<glm::vec3>& a,
-                     std::vector<glm::vec3>& push);
+                     const std::vector<Placement>& placed, const std::vector<PairGeometry>& closest, float dt,
+                     std::vector<glm::vec3>& a, std::vector<glm::vec3>& push);
   // Whether collider k moves as a free ball now.
   bool MovesFreely(size_t k) const { return bodies_[k].mass > 0.0f && time_ >= bodies_[k].release; }
   // The colliders a time h into the step: those on their motions where these
@@ -144,8 +153,15 @@ class KnitSimulation {
   void PlaceColliders(float h, const std::vector<Placement>& rates, const std::vector<glm::vec3>& push,
                       std::vector<Placement>& out) const;
   // The self-contact forces and dynamic self-friction, added to a.
-  void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v, float dt,
-                      std::vector<glm::vec3>& a) const;
+  void AddSelfContact(const std::vector<glm::vec3>& x, const std::vector<glm::vec3>& v,
+                      const std::vector<PairGeometry>& closest, float dt, std::vector<glm::vec3>& a) const;
+  // Each contact pair's geometry at positions x; the nearest point is left out
+  // (weights 0: no force, stiffness or entering the field needs it) when the
+  // point lies T or farther from the triangle's plane, and so from the triangle.
+  void ClosestPoints(const std::vector<glm::vec3>& x, std::vector<PairGeometry>& out) const;
+  // ClosestPoints at the present positions: kept from the crossing check of the
+  // step that led here unless the pairs were searched again since.
+  const std::vector<PairGeometry>& PresentClosestPoints();
   // Whether the step from x_ to x carries a point through a non-adjacent
   // triangle (its signed distance to the triangle's plane changes sign while its
   // projection lies inside the triangle) or to within 0.02τ of one, and the least
@@ -154,7 +170,8 @@ class KnitSimulation {
     bool enters = false;
     float least = 0.0f;
   };
-  ClothCrossing CrossCloth(const std::vector<glm::vec3>& x) const;
+  // Its ClosestPoints at x are kept for when x is taken.
+  ClothCrossing CrossCloth(const std::vector<glm::vec3>& x);
   // The smoothing filter on the step from x_ to (x, v).
   void Smooth(float dt, std::vector<glm::vec3>& x, std::vector<glm::vec3>& v);
 
@@ -169,11 +186,11 @@ class KnitSimulation {
   };
 
   // The longest stable step at the present state.
-  float StableStep() const;
+  float StableStep();
   // Whether a point farther than 0.02τ from a collider at the present positions
   // is nearer at x (inside it included), or CrossCloth(x) enters; self_distance
   // gets CrossCloth's least distance when it was asked (NaN when not).
-  bool Penetrates(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed, float& self_distance) const;
+  bool Penetrates(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed, float& self_distance);
   // The least signed distance from the points x to any collider placed at `placed`.
   float ColliderDistance(const std::vector<glm::vec3>& x, const std::vector<Placement>& placed) const;
   // Moves the pinned points to where their motions have them at time t.
@@ -197,6 +214,11 @@ class KnitSimulation {
   std::vector<Placement> placed_mid_;
   ThicknessField self_friction_field_;
   std::unique_ptr<SelfContactPairs> contacts_;  // null without self-collision
+  // ClosestPoints at the present positions and at the end of the step being
+  // tried, with the search of the pairs each belongs to (−1: none), and at the
+  // step's midpoint.
+  std::vector<PairGeometry> present_closest_, next_closest_, mid_closest_;
+  long present_closest_search_ = -1, next_closest_search_ = -1;
   std::vector<Spring> springs_;
   std::vector<Triple> bends_, shears_;
   struct Pinned {
