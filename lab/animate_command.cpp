@@ -2,10 +2,12 @@
 // written as a glTF sequence and OBJ frames, with its figures.
 
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 
 #include "core/animate/animation.h"
 #include "core/animate/cloth_sequence_io.h"
+#include "core/scene/scene_geometry.h"
 #include "core/spec/spec_json.h"
 #include "core/util/progress_bar.h"
 #include "lab/lab_command.h"
@@ -36,7 +38,7 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
               ProgressBar bar("animate");
               animation = animate::RunAnimation(
                   spec, [&](size_t done, size_t total) { bar.Update(double(done) / total, "frames"); },
-                  options->threads);
+                  options->threads, FileMeshResolver(std::filesystem::path(options->spec).parent_path()));
             }
             if (!options->gltf.empty() || !options->obj_dir.empty()) {
               const MeshSequence sequence = animate::ClothSequence(animation);

@@ -149,7 +149,16 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
     return response;
   }
   if (request.payload_case() == v1::SubmitJobRequest::kAnimate) {
-    ThrowIfAny(Validate(request.animate().animation()));
+    const v1::AnimationSpec& animation = request.animate().animation();
+    ThrowIfAny(Validate(animation));
+    for (int k = 0; k < animation.colliders_size(); ++k) {
+      const v1::ColliderSpec& collider = animation.colliders(k);
+      if (collider.has_mesh() && collider.mesh().mesh().source_case() != v1::MeshRef::kBuiltin) {
+        Invalid("animation.colliders[" + std::to_string(k) + "].mesh.mesh",
+                "the service takes mesh colliders of built-in shapes only for now; a mesh file runs in loom-lab "
+                "animate (docs/animation.md)");
+      }
+    }
     v1::Job job;
     job.set_kind(v1::JOB_KIND_ANIMATE);
     *job.mutable_animate() = request.animate();

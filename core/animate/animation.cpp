@@ -5,6 +5,7 @@
 
 #include "core/spec/defaults.h"
 #include "core/spec/validate.h"
+#include "core/util/error.h"
 
 namespace loom::animate {
 namespace {
@@ -19,9 +20,24 @@ Motion ToMotion(const google::protobuf::RepeatedPtrField<v1::LinearMotion>& legs
   return motion;
 }
 
-Collider ToCollider(const v1::ColliderSpec& spec) {
+// Collider k of the spec; a mesh built as a scene object would be (errors name
+// the collider).
+Collider ToCollider(const v1::ColliderSpec& spec, int k, const MeshTextResolver& meshes) {
   Collider collider;
   switch (spec.shape_case()) {
+    case v1::ColliderSpec::kMesh: {
+      const std::string name = "animation.colliders[" + std::to_string(k) + "].mesh";
+      v1::SceneSpec scene;
+      v1::SceneObject& object = *scene.add_objects();
+      *object.mutable_mesh() = spec.mesh().mesh();
+      *object.mutable_transform() = spec.mesh().transform();
+      const MeshTextResolver read = [&](const v1::MeshRef& mesh, const TextSink& consume) {
+        if (!meshes) throw Error(ErrorCode::kInvalidArgument, name + ": mesh files cannot be read here");
+        meshes(mesh, consume);
+      };
+      collider = Collider::Mesh(std::make_shared<const MeshDistance>(BuildSceneGeometry(scene, read).at(0).mesh, name));
+      break;
+    }
     case v1::ColliderSpec::kPlane:
       collider = Collider::Plane(ToVec3(spec.plane().point()), ToVec3(spec.plane().normal()));
       break;
@@ -38,7 +54,7 @@ Collider ToCollider(const v1::ColliderSpec& spec) {
 }  // namespace
 
 ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<void(size_t, size_t)>& progress,
-                            unsigned threads) {
+                            unsigned threads, const MeshTextResolver& meshes) {
   ThrowIfAny(Validate(raw));
   const v1::AnimationSpec spec = WithDefaults(raw);
   const v1::KnitClothSpec& cloth_spec = spec.cloth();
@@ -48,7 +64,9 @@ ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<vo
                                   ToVec3(cloth_spec.course_axis()), ToVec3(cloth_spec.wale_axis()));
   animation.frames_per_second = spec.frames_per_second();
 
-  for (const v1::ColliderSpec& collider : spec.colliders()) animation.colliders.push_back(ToCollider(collider));
+  for (int k = 0; k < spec.colliders_size(); ++k) {
+    animation.colliders.push_back(ToCollider(spec.colliders(k), k, meshes));
+  }
   KnitMechanics mechanics;
   mechanics.threads = threads;
   KnitSimulation simulation(animation.cloth, mechanics, animation.colliders);

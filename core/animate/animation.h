@@ -10,6 +10,7 @@
 
 #include "core/animate/knit_cloth.h"
 #include "core/animate/knit_simulation.h"
+#include "core/scene/scene_geometry.h"
 #include "loom/v1/animation.pb.h"
 
 namespace loom::animate {
@@ -31,8 +32,10 @@ struct ClothAnimation {
 
 // The spec is validated first (Error(kInvalidArgument) naming each bad field).
 // progress(done, total) after each frame; `threads` for the contact search (0:
-// every core).
+// every core); `meshes` reads the mesh colliders' files (none: a mesh collider
+// may only be a built-in shape).
 ClothAnimation RunAnimation(const v1::AnimationSpec& spec,
-                            const std::function<void(size_t done, size_t total)>& progress = {}, unsigned threads = 0);
+                            const std::function<void(size_t done, size_t total)>& progress = {}, unsigned threads = 0,
+                            const MeshTextResolver& meshes = {});
 
 }  // namespace loom::animate

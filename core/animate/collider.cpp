@@ -35,6 +35,14 @@ Collider Collider::Box(glm::vec3 centre, glm::vec3 half_extent) {
   return c;
 }
 
+Collider Collider::Mesh(std::shared_ptr<const MeshDistance> mesh) {
+  if (!mesh) throw Error(ErrorCode::kInvalidArgument, "mesh collider: no mesh");
+  Collider c;
+  c.kind_ = Kind::kMesh;
+  c.mesh_ = std::move(mesh);
+  return c;
+}
+
 Collider Collider::Moving(const Motion& motion) const {
   if (!motion.valid()) throw Error(ErrorCode::kInvalidArgument, "collider motion: end before start");
   Collider c = *this;
@@ -67,6 +75,8 @@ Contact Collider::Nearest(glm::vec3 p, glm::vec3 displacement) const {
       normal[axis] = local[axis] < 0.0f ? -1.0f : 1.0f;
       return {q[axis], normal};
     }
+    case Kind::kMesh:
+      return mesh_->Nearest(p);
   }
   return {};
 }

@@ -279,6 +279,11 @@ v1::AnimationSpec WithDefaults(v1::AnimationSpec animation) {
   if (zero(cloth.wale_axis())) cloth.mutable_wale_axis()->set_y(1.0f);
   if (cloth.has_fabric()) *cloth.mutable_fabric() = WithDefaults(cloth.fabric());
   if (animation.frames_per_second() == 0) animation.set_frames_per_second(kDefaultFramesPerSecond);
+  for (v1::ColliderSpec& collider : *animation.mutable_colliders()) {
+    if (collider.has_mesh() && zero(collider.mesh().transform().scale())) {
+      SetVec3(collider.mutable_mesh()->mutable_transform()->mutable_scale(), 1, 1, 1);
+    }
+  }
   return animation;
 }
 

@@ -465,12 +465,16 @@ void CheckBinding(const v1::FabricBinding& binding, const IssueCollector& at) {
   }
 }
 
+void CheckTransformScale(const v1::Transform& transform, const IssueCollector& at) {
+  for (const auto& [axis, scale] : Components(transform.scale())) {
+    if (scale == 0) at.Field("transform.scale").Report(axis, "must not be zero (a zero scale flattens the object)");
+  }
+}
+
 void CheckObject(const v1::SceneObject& object, const IssueCollector& at) {
   at.Length("name", object.name(), kMaxNameLength);
   CheckMesh(object.mesh(), at.Field("mesh"));
-  for (const auto& [axis, scale] : Components(object.transform().scale())) {
-    if (scale == 0) at.Field("transform.scale").Report(axis, "must not be zero (a zero scale flattens the object)");
-  }
+  CheckTransformScale(object.transform(), at);
   if (object.has_fabric()) CheckBinding(object.fabric(), at.Field("fabric"));
   at.Colour("base_colour", object.base_colour(), 0, 1);
 }
@@ -631,8 +635,15 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
         at.Field("box").Field("half_extent").Max(component, value, kMaxColliderSize);
       }
       break;
+    case v1::ColliderSpec::kMesh:
+      CheckMesh(collider.mesh().mesh(), at.Field("mesh").Field("mesh"));
+      if (collider.mesh().mesh().source_case() == v1::MeshRef::kArtifact) {
+        at.Field("mesh").Field("mesh").Report("artifact", "mesh colliders are read from files (loom-lab) for now");
+      }
+      CheckTransformScale(collider.mesh().transform(), at.Field("mesh"));
+      break;
     default:
-      at.Report("names no plane, sphere or box");
+      at.Report("names no plane, sphere, box or mesh");
   }
   CheckMotion(collider.motion(), duration, at);
 }

@@ -137,6 +137,9 @@ TEST_F(ServiceTest, BadAnimationsAndSequenceFramesAreRefusedNamingTheFieldAndSto
   absurd.set_duration_seconds(600);
   absurd.set_frames_per_second(120);
   expect_invalid(AnimateRequest(absurd), "3000");
+  v1::AnimationSpec chair = Hanging();
+  chair.add_colliders()->mutable_mesh()->mutable_mesh()->set_obj_path("chair.obj");
+  expect_invalid(AnimateRequest(chair), "animation.colliders[0].mesh.mesh: the service takes mesh colliders of built-in");
 
   // A sequence of 11 frames has no frame 11; an OBJ has no frame 1.
   const animate::ClothAnimation animation = animate::RunAnimation(Hanging());

@@ -138,6 +138,46 @@ TEST(ClothSequence, BallsMoveInTheGltfAsTheyMovedInTheSimulation) {
   }
 }
 
+// A 6 × 6 patch dropped onto a collider of radius 3 centred 4 below it, for 1 s.
+v1::AnimationSpec DropOnto(const std::string& collider) {
+  return ParseSpecJson<v1::AnimationSpec>(R"({
+    "cloth": {"loops": 6, "courses": 6, "origin": {"x": -2.5, "y": -2.5, "z": 0}},
+    "colliders": [)" + collider + R"(],
+    "duration_seconds": 1
+  })",
+                                          "animation");
+}
+
+TEST(RunAnimation, AMeshColliderActsAsTheSolidItBounds) {
+  const ClothAnimation on_sphere = RunAnimation(DropOnto(R"({"sphere": {"centre": {"z": -4}, "radius": 3}})"));
+  // The built-in sphere, 64 × 32 segments, placed by its transform…
+  const ClothAnimation on_mesh = RunAnimation(DropOnto(R"({"mesh": {"mesh": {"builtin": "BUILTIN_SHAPE_SPHERE",
+      "segments": 32}, "transform": {"translation": {"z": -4}, "scale": {"x": 3, "y": 3, "z": 3}}}})"));
+  // …holds the cloth where the sphere does, within its facets' error (0.015).
+  for (size_t p = 0; p < 36; ++p) {
+    EXPECT_NEAR(glm::distance(on_mesh.frames.back()[p], on_sphere.frames.back()[p]), 0.0f, 0.05f) << p;
+  }
+  EXPECT_LT(on_sphere.frames.back()[14].z, -0.1f);  // it fell onto the ball
+  EXPECT_GE(on_mesh.min_collider_distance, 0.0f);
+
+  // An OBJ beside the spec, read by the resolver; without one it cannot be read.
+  const auto dir = ScratchDir("mesh_collider");
+  {
+    std::ofstream obj(dir / "tetrahedron.obj");
+    obj << "v 0 0 -1\nv 1 0 -2\nv 0 1 -2\nv 0 0 -2\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
+  }
+  const v1::AnimationSpec file = DropOnto(R"({"mesh": {"mesh": {"obj_path": "tetrahedron.obj"}}})");
+  EXPECT_EQ(RunAnimation(file, {}, 0, FileMeshResolver(dir)).colliders.size(), 1u);
+  try {
+    RunAnimation(file);
+    FAIL() << "a mesh file was read without a resolver";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("animation.colliders[0].mesh: mesh files cannot be read here"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(ClothSequence, RefusesBrokenGltfNamingTheFile) {
   const auto path = ScratchDir("broken") / "broken.glb";
   {
