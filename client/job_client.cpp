@@ -145,12 +145,26 @@ v1::CachedFabric JobClient::DownloadFabric(const std::string& key, const std::fi
 }
 
 int JobClient::UploadMeshes(v1::SceneSpec& scene, const std::filesystem::path& scene_directory) {
+  std::vector<v1::MeshRef*> meshes;
+  for (v1::SceneObject& object : *scene.mutable_objects()) meshes.push_back(object.mutable_mesh());
+  return UploadMeshRefs(meshes, scene_directory);
+}
+
+int JobClient::UploadMeshes(v1::AnimationSpec& animation, const std::filesystem::path& spec_directory) {
+  std::vector<v1::MeshRef*> meshes;
+  for (v1::ColliderSpec& collider : *animation.mutable_colliders()) {
+    if (collider.has_mesh()) meshes.push_back(collider.mutable_mesh()->mutable_mesh());
+  }
+  return UploadMeshRefs(meshes, spec_directory);
+}
+
+int JobClient::UploadMeshRefs(const std::vector<v1::MeshRef*>& meshes, const std::filesystem::path& directory) {
   std::map<std::string, std::string> bytes_by_hash, name_by_hash;
-  for (v1::SceneObject& object : *scene.mutable_objects()) {
-    v1::MeshRef& mesh = *object.mutable_mesh();
+  for (v1::MeshRef* ref : meshes) {
+    v1::MeshRef& mesh = *ref;
     const bool obj = mesh.source_case() == v1::MeshRef::kObjPath;
     if (!obj && mesh.source_case() != v1::MeshRef::kGltfPath) continue;
-    std::string bytes = ReadFile(scene_directory / (obj ? mesh.obj_path() : mesh.gltf_path()));
+    std::string bytes = ReadFile(directory / (obj ? mesh.obj_path() : mesh.gltf_path()));
     std::string hash = Sha256Hex(bytes);
     name_by_hash.emplace(hash, obj ? "mesh.obj" : bytes.starts_with("glTF") ? "mesh.glb" : "mesh.gltf");
     mesh.set_artifact(hash);  // replaces the path (one source); the server tells the format by the bytes

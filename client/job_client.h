@@ -44,6 +44,8 @@ class JobClient {
   // artifact of its bytes, uploading only those the server lacks. The server never
   // sees a client path. Returns how many meshes were uploaded.
   int UploadMeshes(v1::SceneSpec& scene, const std::filesystem::path& scene_directory);
+  // The same for an animation's mesh colliders.
+  int UploadMeshes(v1::AnimationSpec& animation, const std::filesystem::path& spec_directory);
   // An artifact's bytes, verified.
   std::string Download(const std::string& sha256);
 
@@ -53,6 +55,7 @@ class JobClient {
   void WaitForServer(std::chrono::milliseconds timeout);
 
  private:
+  int UploadMeshRefs(const std::vector<v1::MeshRef*>& meshes, const std::filesystem::path& directory);
   std::shared_ptr<grpc::Channel> channel_;
   std::unique_ptr<v1::LoomService::Stub> stub_;
 };

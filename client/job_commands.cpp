@@ -284,8 +284,9 @@ ClientCommand AddAnimate(CLI::App& app, ClientFlags& flags) {
               throw Error(ErrorCode::kInvalidArgument, "--out: " + options->out + " does not end in .glb");
             }
             v1::SubmitJobRequest request;
-            *request.mutable_animate()->mutable_animation() =
-                LoadSpecFile<v1::AnimationSpec>(options->spec, "animation");
+            v1::AnimationSpec& animation = *request.mutable_animate()->mutable_animation();
+            animation = LoadSpecFile<v1::AnimationSpec>(options->spec, "animation");
+            flags.Connect().UploadMeshes(animation, std::filesystem::path(options->spec).parent_path());
             options->submit.Fill(request);
             const v1::Job done = SubmitAndWait(flags, request, options->submit, "animate");
             if (options->submit.no_wait) return 0;

@@ -159,20 +159,18 @@ grpc::Status JobService::RetryJobs(grpc::ServerContext* context, const v1::Retry
   return Guard(*context, state_.client_token, "RetryJobs", [&] {
     if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
     const std::vector<std::string> ids = RequireJobIds(request->job_ids());
-    // A render's meshes were released when it ended: they must still be here, and
+    // A render's or an animation's meshes were released when it ended: they must still be here, and
     // are held again until it ends (server/job_submission.h).
     std::vector<std::string> pinned;
     try {
       for (const std::string& id : ids) {
         const v1::Job job = state_.queue.Get(id);
-        if (!job.has_render()) continue;
-        for (const v1::SceneObject& object : job.render().scene().objects()) {
-          if (object.mesh().source_case() != v1::MeshRef::kArtifact) continue;
-          if (!state_.artifacts.Has(object.mesh().artifact())) {
-            throw Error(ErrorCode::kFailedPrecondition, "job " + id + ": mesh artifact " + object.mesh().artifact() +
-                                                            " is no longer on the server; submit the render again");
+        for (const v1::MeshRef* mesh : UploadedMeshes(job)) {
+          if (!state_.artifacts.Has(mesh->artifact())) {
+            throw Error(ErrorCode::kFailedPrecondition, "job " + id + ": mesh artifact " + mesh->artifact() +
+                                                            " is no longer on the server; submit the job again");
           }
-          state_.artifacts.Pin(object.mesh().artifact(), JobPinOwner(id));
+          state_.artifacts.Pin(mesh->artifact(), JobPinOwner(id));
         }
         pinned.push_back(id);
       }

@@ -6,6 +6,7 @@
 
 #include <set>
 
+#include "core/animate/animation.h"
 #include "core/plan/precompute_plan.h"
 #include "core/render/scene_render.h"
 #include "core/scene/scene_geometry.h"
@@ -46,16 +47,17 @@ void CheckNoUnknownFields(const google::protobuf::Message& message, const std::s
   }
 }
 
-// Meshes must be built-in or uploaded artifacts (hashes already validated); returns
-// the artifacts' hashes.
-std::set<std::string> CheckMeshSources(const v1::SceneSpec& scene, ArtifactStore& artifacts) {
+// Meshes (each with its field path) must be built-in or uploaded artifacts (hashes
+// already validated); returns the artifacts' hashes.
+std::set<std::string> CheckMeshSources(const std::vector<std::pair<std::string, const v1::MeshRef*>>& meshes,
+                                       ArtifactStore& artifacts) {
   std::set<std::string> hashes;
-  for (int i = 0; i < scene.objects_size(); ++i) {
-    const v1::MeshRef& mesh = scene.objects(i).mesh();
-    const std::string path = "scene.objects[" + std::to_string(i) + "].mesh";
+  for (const auto& [path, ref] : meshes) {
+    const v1::MeshRef& mesh = *ref;
     if (mesh.source_case() == v1::MeshRef::kObjPath || mesh.source_case() == v1::MeshRef::kGltfPath) {
       Invalid(path + (mesh.source_case() == v1::MeshRef::kObjPath ? ".obj_path" : ".gltf_path"),
-              "the server never opens client paths; upload the mesh and name its artifact (loom render does)");
+              "the server never opens client paths; upload the mesh and name its artifact (loom render and loom "
+              "animate do)");
     }
     if (mesh.source_case() != v1::MeshRef::kArtifact) continue;
     if (!artifacts.Has(mesh.artifact())) {
@@ -65,6 +67,16 @@ std::set<std::string> CheckMeshSources(const v1::SceneSpec& scene, ArtifactStore
     hashes.insert(mesh.artifact());
   }
   return hashes;
+}
+
+// Holds a job's mesh artifacts until it ends (ServiceState releases them then). A
+// job that ended before they were taken (at once, on a failed dependency, or
+// raced to the end) would never release them: they are released here.
+void PinUntilEnded(const std::set<std::string>& hashes, const std::string& job_id, JobQueue& queue,
+                   ArtifactStore& artifacts) {
+  const std::string owner = JobPinOwner(job_id);
+  for (const std::string& hash : hashes) artifacts.Pin(hash, owner);
+  if (IsTerminal(queue.Get(job_id).state())) artifacts.UnpinAll(owner);
 }
 
 v1::Job CheckedPrecompute(const v1::SubmitJobRequest& request) {
@@ -107,6 +119,16 @@ v1::SceneSpec WithPlannedPrecompute(const v1::SceneSpec& scene, const v1::SceneS
 }  // namespace
 
 std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
+
+std::vector<const v1::MeshRef*> UploadedMeshes(const v1::Job& job) {
+  std::vector<const v1::MeshRef*> meshes;
+  for (const v1::SceneObject& object : job.render().scene().objects()) meshes.push_back(&object.mesh());
+  for (const v1::ColliderSpec& collider : job.animate().animation().colliders()) {
+    if (collider.has_mesh()) meshes.push_back(&collider.mesh().mesh());
+  }
+  std::erase_if(meshes, [](const v1::MeshRef* mesh) { return mesh->source_case() != v1::MeshRef::kArtifact; });
+  return meshes;
+}
 
 v1::Job SubmitFabricPrecompute(const SceneFabric& fabric, int32_t priority, JobQueue& queue) {
   v1::PrecomputeJob precompute;
@@ -151,20 +173,25 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   if (request.payload_case() == v1::SubmitJobRequest::kAnimate) {
     const v1::AnimationSpec& animation = request.animate().animation();
     ThrowIfAny(Validate(animation));
+    std::vector<std::pair<std::string, const v1::MeshRef*>> colliders;
     for (int k = 0; k < animation.colliders_size(); ++k) {
-      const v1::ColliderSpec& collider = animation.colliders(k);
-      if (collider.has_mesh() && collider.mesh().mesh().source_case() != v1::MeshRef::kBuiltin) {
-        Invalid("animation.colliders[" + std::to_string(k) + "].mesh.mesh",
-                "the service takes mesh colliders of built-in shapes only for now; a mesh file runs in loom-lab "
-                "animate (docs/animation.md)");
-      }
+      if (!animation.colliders(k).has_mesh()) continue;
+      colliders.emplace_back("animation.colliders[" + std::to_string(k) + "].mesh.mesh",
+                             &animation.colliders(k).mesh().mesh());
     }
+    const std::set<std::string> meshes = CheckMeshSources(colliders, artifacts);
+    // Builds the mesh colliders now, so a mesh that is not closed is refused here
+    // rather than failing on a worker.
+    animate::BuildColliders(WithDefaults(animation), [&artifacts](const v1::MeshRef& mesh, const TextSink& consume) {
+      artifacts.ReadInPieces(mesh.artifact(), consume);
+    });
     v1::Job job;
     job.set_kind(v1::JOB_KIND_ANIMATE);
     *job.mutable_animate() = request.animate();
     job.set_priority(request.priority());
     job.set_client_request_id(request.client_request_id());
     *response.mutable_job() = queue.Submit(job);
+    PinUntilEnded(meshes, response.job().id(), queue, artifacts);
     spdlog::info("job {}: animate '{}'", response.job().id(), request.animate().animation().name());
     return response;
   }
@@ -174,7 +201,11 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
 
   const v1::SceneSpec& scene = request.render().scene();
   ThrowIfAny(Validate(scene));
-  const std::set<std::string> meshes = CheckMeshSources(scene, artifacts);
+  std::vector<std::pair<std::string, const v1::MeshRef*>> objects;
+  for (int i = 0; i < scene.objects_size(); ++i) {
+    objects.emplace_back("scene.objects[" + std::to_string(i) + "].mesh", &scene.objects(i).mesh());
+  }
+  const std::set<std::string> meshes = CheckMeshSources(objects, artifacts);
   v1::SceneSpec full = WithDefaults(scene);
   // Parses every mesh now (errors name the object), so a bad OBJ is refused here
   // rather than failing on a worker.
@@ -200,12 +231,7 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
     }
   }
   *response.mutable_job() = queue.Submit(job);
-  // Held until the job ends (ServiceState releases them then). A job that ended
-  // before they were taken (at once, on a failed dependency, or raced to the end)
-  // would never release them: release them here.
-  const std::string owner = JobPinOwner(response.job().id());
-  for (const std::string& hash : meshes) artifacts.Pin(hash, owner);
-  if (IsTerminal(queue.Get(response.job().id()).state())) artifacts.UnpinAll(owner);
+  PinUntilEnded(meshes, response.job().id(), queue, artifacts);
   spdlog::info("job {}: render '{}' ({} fabric precompute(s) to wait for)", response.job().id(), scene.name(),
                response.dependencies_size());
   return response;

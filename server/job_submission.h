@@ -1,10 +1,13 @@
 #pragma once
 // Turning a SubmitJobRequest into queue jobs, all checks first so that a rejected
 // request stores nothing: specs validated (core/spec/validate.h: every issue, with
-// field path and limit), meshes named by uploaded artifacts only (a client path is
-// refused, never opened) and parsed, then for a svbrdf render each fabric the cache
+// field path and limit), meshes (a scene's objects', an animation's colliders')
+// named by uploaded artifacts only (a client path is refused, never opened) and
+// parsed, then for a svbrdf render each fabric the cache
 // lacks gets its precompute (JobQueue::SubmitPrecomputeOnce: joined, never doubled)
 // and the render depends on them.
+
+#include <vector>
 
 #include "core/render/scene_render.h"
 #include "loom/v1/service.pb.h"
@@ -19,8 +22,13 @@ namespace loom::server {
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
                                 FabricCache& cache);
 
-// The pin owner of a render job's meshes, held until the job ends.
+// The pin owner of a render's or an animation's mesh artifacts, held until the
+// job ends.
 std::string JobPinOwner(const std::string& job_id);
+
+// The meshes of a job that name uploaded artifacts: a render's scene objects', an
+// animation's mesh colliders'.
+std::vector<const v1::MeshRef*> UploadedMeshes(const v1::Job& job);
 
 // The precompute job that will put a scene's fabric into the cache: created, or
 // joined if one is active (JobQueue::SubmitPrecomputeOnce).

@@ -41,7 +41,7 @@ ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCach
     : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
       worker_token(std::move(worker_token)), tls(tls), parse_slots(parse_slots) {
   queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
-    if (kind == v1::JOB_KIND_RENDER) artifacts.UnpinAll(JobPinOwner(id));
+    if (kind == v1::JOB_KIND_RENDER || kind == v1::JOB_KIND_ANIMATE) artifacts.UnpinAll(JobPinOwner(id));
   });
 }
 

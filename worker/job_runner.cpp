@@ -138,11 +138,15 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
   return {name, ReadFile(directory.path() / name)};
 }
 
-NamedFile JobRunner::Animate(const v1::AnimateJob& job, const PrecomputeProgress& progress) {
-  const animate::ClothAnimation animation = animate::RunAnimation(job.animation(), [&](size_t done, size_t total) {
-    progress(static_cast<double>(done) / static_cast<double>(total),
-             "simulation: frame " + std::to_string(done) + "/" + std::to_string(total));
-  });
+NamedFile JobRunner::Animate(const v1::AnimateJob& job, const MeshTextResolver& meshes,
+                             const PrecomputeProgress& progress) {
+  const animate::ClothAnimation animation = animate::RunAnimation(
+      job.animation(),
+      [&](size_t done, size_t total) {
+        progress(static_cast<double>(done) / static_cast<double>(total),
+                 "simulation: frame " + std::to_string(done) + "/" + std::to_string(total));
+      },
+      0, meshes);
   const StepDirectory directory(NewScratchPath("sequence"));
   const std::filesystem::path path = directory.path() / "sequence.glb";
   animate::WriteGltfSequence(animate::ClothSequence(animation), path, animate::SolidTracks(animation));

@@ -66,9 +66,10 @@ class JobRunner {
 
   // The knit cloth of `job` simulated through its animation, as "sequence.glb"
   // (core/animate/cloth_sequence_io.h); the spec is validated first
-  // (Error(kInvalidArgument) naming the field). `progress` hears of every frame;
-  // what it throws abandons the simulation.
-  NamedFile Animate(const v1::AnimateJob& job, const PrecomputeProgress& progress);
+  // (Error(kInvalidArgument) naming the field), its mesh colliders read through
+  // `meshes`. `progress` hears of every frame; what it throws abandons the
+  // simulation.
+  NamedFile Animate(const v1::AnimateJob& job, const MeshTextResolver& meshes, const PrecomputeProgress& progress);
 
  private:
   static constexpr size_t kLumisliceCacheFabrics = 4;

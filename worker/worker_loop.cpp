@@ -302,14 +302,6 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
                                [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
     });
   }
-  if (job.has_animate()) {
-    return {timed([&] {
-      return runner.Animate(job.animate(),
-                            [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
-    })};
-  }
-  FabricAssets fitted;
-  for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
   const MeshTextResolver meshes = [this](const v1::MeshRef& mesh, const TextSink& consume) {
     if (mesh.source_case() != v1::MeshRef::kArtifact) {
       throw Error(ErrorCode::kInvalidArgument, "a worker reads uploaded mesh artifacts only");
@@ -317,6 +309,14 @@ std::vector<NamedFile> WorkerLoop::Execute(JobRunner& runner, FitCache& fits, co
     // Streamed into the parser: a mesh upload may be large (server/job_service.h).
     rpc::DownloadArtifactInPieces(*stub_, mesh.artifact(), consume);
   };
+  if (job.has_animate()) {
+    return {timed([&] {
+      return runner.Animate(job.animate(), meshes,
+                            [&lease](double fraction, std::string_view stage) { lease.Progress(fraction, stage); });
+    })};
+  }
+  FabricAssets fitted;
+  for (const v1::FabricAsset& asset : leased.fabrics()) fitted[asset.fabric_key()] = &fits.Get(asset, runner, *stub_);
   return {timed([&] {
     return runner.Render(job.render(), meshes, fitted,
                          [&lease](double fraction, std::string_view stage) { lease.RenderProgress(fraction, stage); });

@@ -53,6 +53,12 @@ Collider ToCollider(const v1::ColliderSpec& spec, int k, const MeshTextResolver&
 
 }  // namespace
 
+std::vector<Collider> BuildColliders(const v1::AnimationSpec& spec, const MeshTextResolver& meshes) {
+  std::vector<Collider> colliders;
+  for (int k = 0; k < spec.colliders_size(); ++k) colliders.push_back(ToCollider(spec.colliders(k), k, meshes));
+  return colliders;
+}
+
 ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<void(size_t, size_t)>& progress,
                             unsigned threads, const MeshTextResolver& meshes) {
   ThrowIfAny(Validate(raw));
@@ -64,9 +70,7 @@ ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<vo
                                   ToVec3(cloth_spec.course_axis()), ToVec3(cloth_spec.wale_axis()));
   animation.frames_per_second = spec.frames_per_second();
 
-  for (int k = 0; k < spec.colliders_size(); ++k) {
-    animation.colliders.push_back(ToCollider(spec.colliders(k), k, meshes));
-  }
+  animation.colliders = BuildColliders(spec, meshes);
   KnitMechanics mechanics;
   mechanics.threads = threads;
   KnitSimulation simulation(animation.cloth, mechanics, animation.colliders);

@@ -30,6 +30,10 @@ struct ClothAnimation {
   double simulation_seconds = 0.0;     // wall-clock time of the stepping
 };
 
+// The spec's colliders (the spec with defaults applied and validated): its mesh
+// colliders read through `meshes` and built (errors name the collider).
+std::vector<Collider> BuildColliders(const v1::AnimationSpec& spec, const MeshTextResolver& meshes);
+
 // The spec is validated first (Error(kInvalidArgument) naming each bad field).
 // progress(done, total) after each frame; `threads` for the contact search (0:
 // every core); `meshes` reads the mesh colliders' files (none: a mesh collider

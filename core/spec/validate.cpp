@@ -637,9 +637,6 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
       break;
     case v1::ColliderSpec::kMesh:
       CheckMesh(collider.mesh().mesh(), at.Field("mesh").Field("mesh"));
-      if (collider.mesh().mesh().source_case() == v1::MeshRef::kArtifact) {
-        at.Field("mesh").Field("mesh").Report("artifact", "mesh colliders are read from files (loom-lab) for now");
-      }
       CheckTransformScale(collider.mesh().transform(), at.Field("mesh"));
       break;
     default:

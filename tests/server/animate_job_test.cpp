@@ -117,6 +117,48 @@ TEST_F(ServiceTest, AnAnimateJobReturnsCoresSequenceAndARenderDrawsItsFrames) {
   EXPECT_EQ(client.Delete({done.id()}).removed_frames(), 1u);
 }
 
+// A box under the hanging cloth's lower end, as an OBJ (x −1…6, y −3…3, z −12…−7.5).
+constexpr const char* kBoxObj =
+    "v -1 -3 -12\nv 6 -3 -12\nv 6 3 -12\nv -1 3 -12\nv -1 -3 -7.5\nv 6 -3 -7.5\nv 6 3 -7.5\nv -1 3 -7.5\n"
+    "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\n"
+    "f 2 3 7\nf 2 7 6\n";
+
+TEST_F(ServiceTest, AnAnimationsMeshColliderIsUploadedHeldForTheJobAndReadByTheWorker) {
+  StartServer();
+  client::JobClient client = Client();
+  WriteFileAtomic(data_dir_ / "box.obj", kBoxObj);
+  v1::AnimationSpec spec = Hanging();
+  spec.add_colliders()->mutable_mesh()->mutable_mesh()->set_obj_path("box.obj");
+  const v1::AnimationSpec local = spec;
+  EXPECT_EQ(client.UploadMeshes(spec, data_dir_), 1);
+  ASSERT_EQ(spec.colliders(0).mesh().mesh().source_case(), v1::MeshRef::kArtifact);
+  const v1::Job done =
+      client.Watch(client.Submit(AnimateRequest(spec)).job().id(), [](const v1::JobEvent&) {});
+  ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
+  const MeshSequence served = ParseGltfSequence(client.Download(done.result_artifacts(0)), "served");
+  // Core's run with the file beside the spec, frame for frame; the cloth came
+  // into the box's field.
+  const animate::ClothAnimation core = animate::RunAnimation(local, {}, 0, FileMeshResolver(data_dir_));
+  EXPECT_LT(core.min_collider_distance, 0.9f);
+  ASSERT_EQ(served.frames.size(), core.frames.size());
+  for (size_t k = 0; k < core.frames.size(); ++k) {
+    for (size_t p = 0; p < core.frames[k].size(); ++p) {
+      ASSERT_NEAR(glm::distance(served.frames[k][p], core.frames[k][p]), 0.0f, 1e-5f) << k << " " << p;
+    }
+  }
+  // A mesh that is not closed is refused at submission, naming the collider.
+  WriteFileAtomic(data_dir_ / "open.obj", std::string(kBoxObj).substr(0, std::string(kBoxObj).rfind("f ")));
+  v1::AnimationSpec open = Hanging();
+  open.add_colliders()->mutable_mesh()->mutable_mesh()->set_obj_path("open.obj");
+  client.UploadMeshes(open, data_dir_);
+  try {
+    client.Submit(AnimateRequest(open));
+    FAIL() << "an open mesh collider was queued";
+  } catch (const Error& error) {
+    EXPECT_THAT(error.what(), HasSubstr("animation.colliders[0].mesh: not closed"));
+  }
+}
+
 TEST_F(ServiceTest, BadAnimationsAndSequenceFramesAreRefusedNamingTheFieldAndStoreNothing) {
   ServerOptions options;
   options.local_workers = 0;
@@ -139,7 +181,7 @@ TEST_F(ServiceTest, BadAnimationsAndSequenceFramesAreRefusedNamingTheFieldAndSto
   expect_invalid(AnimateRequest(absurd), "3000");
   v1::AnimationSpec chair = Hanging();
   chair.add_colliders()->mutable_mesh()->mutable_mesh()->set_obj_path("chair.obj");
-  expect_invalid(AnimateRequest(chair), "animation.colliders[0].mesh.mesh: the service takes mesh colliders of built-in");
+  expect_invalid(AnimateRequest(chair), "animation.colliders[0].mesh.mesh.obj_path: the server never opens client paths");
 
   // A sequence of 11 frames has no frame 11; an OBJ has no frame 1.
   const animate::ClothAnimation animation = animate::RunAnimation(Hanging());
