@@ -54,10 +54,12 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
             for (size_t k = 0; k < animation.colliders.size(); ++k) {
               if (!animation.colliders[k].sphere()) continue;
               const std::vector<glm::vec3>& track = animation.collider_tracks[k];
+              const glm::vec3 centre = animation.colliders[k].centre();
               float lowest = std::numeric_limits<float>::infinity();
-              for (const glm::vec3& moved : track) lowest = std::min(lowest, animation.colliders[k].centre().z + moved.z);
-              const glm::vec3 end = animation.colliders[k].centre() + track.back();
-              spheres.push_back({{"collider", k}, {"lowest_centre_z", lowest}, {"final_centre", {end.x, end.y, end.z}}});
+              for (const glm::vec3& moved : track) lowest = std::min(lowest, centre.z + moved.z);
+              const glm::vec3 end = centre + track.back();
+              spheres.push_back(
+                  {{"collider", k}, {"lowest_centre_z", lowest}, {"final_centre", {end.x, end.y, end.z}}});
             }
             if (flags.json) {
               PrintJson({{"loops", animation.cloth.size()},

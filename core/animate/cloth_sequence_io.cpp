@@ -141,7 +141,8 @@ void WriteGltfSequence(const MeshSequence& sequence, const std::filesystem::path
   GltfBuilder builder(model);
   tinygltf::Scene scene;
   // A mesh of the positions, the mesh's uvs and triangles, on a node of its own.
-  const auto add_mesh = [&](const std::string& name, const TriangleMesh& mesh, const std::vector<glm::vec3>& positions) {
+  const auto add_mesh = [&](const std::string& name, const TriangleMesh& mesh,
+                            const std::vector<glm::vec3>& positions) {
     tinygltf::Primitive primitive;
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     primitive.attributes["POSITION"] = builder.Floats(&positions[0].x, positions.size(), TINYGLTF_TYPE_VEC3, 3, true);

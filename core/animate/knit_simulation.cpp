@@ -170,7 +170,8 @@ void KnitSimulation::PlaceColliders(float h, const std::vector<Placement>& rates
     // stopped.
     for (size_t other = 0; other < colliders_.size(); ++other) {
       if (MovesFreely(other)) continue;
-      const Contact contact = colliders_[other].Nearest(colliders_[k].centre() + ball.displacement, out[other].displacement);
+      const Contact contact =
+          colliders_[other].Nearest(colliders_[k].centre() + ball.displacement, out[other].displacement);
       const float depth = colliders_[k].radius() - contact.distance;
       if (depth <= 0.0f) continue;
       ball.displacement += depth * contact.normal;

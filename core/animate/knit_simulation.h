@@ -10,7 +10,7 @@
 //
 // Colliders and pinned points may move along prescribed motions, and a sphere
 // may be let go as a free ball the cloth pushes back (the paper's ball
-// rebounding off a scarf). Not yet: mesh colliders (docs/animation.md "Next").
+// rebounding off a scarf).
 
 #include <cstdint>
 #include <glm/glm.hpp>

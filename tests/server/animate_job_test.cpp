@@ -181,7 +181,8 @@ TEST_F(ServiceTest, BadAnimationsAndSequenceFramesAreRefusedNamingTheFieldAndSto
   expect_invalid(AnimateRequest(absurd), "3000");
   v1::AnimationSpec chair = Hanging();
   chair.add_colliders()->mutable_mesh()->mutable_mesh()->set_obj_path("chair.obj");
-  expect_invalid(AnimateRequest(chair), "animation.colliders[0].mesh.mesh.obj_path: the server never opens client paths");
+  expect_invalid(AnimateRequest(chair),
+                 "animation.colliders[0].mesh.mesh.obj_path: the server never opens client paths");
 
   // A sequence of 11 frames has no frame 11; an OBJ has no frame 1.
   const animate::ClothAnimation animation = animate::RunAnimation(Hanging());

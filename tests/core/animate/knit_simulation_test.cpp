@@ -320,7 +320,8 @@ TEST(KnitSimulation, ABallHeldByItsMotionFallsFreelyOnceLetGo) {
 TEST(KnitSimulation, OnlyASphereWithMassCanBeLetGo) {
   const KnitCloth cloth = FlatKnitCloth(2, 2, 1.0f, 1.0f, glm::vec3(0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
   KnitSimulation sim(cloth, KnitMechanics{},
-                     {Collider::Plane(glm::vec3(0, 0, -5), glm::vec3(0, 0, 1)), Collider::Sphere(glm::vec3(0, 0, 9), 1)});
+                     {Collider::Plane(glm::vec3(0, 0, -5), glm::vec3(0, 0, 1)),
+                      Collider::Sphere(glm::vec3(0, 0, 9), 1)});
   EXPECT_THROW(sim.Free(0, 1.0f), Error);
   EXPECT_THROW(sim.Free(1, 0.0f), Error);
   EXPECT_NO_THROW(sim.Free(1, 1.0f));
@@ -345,7 +346,8 @@ struct Landing {
   float least_distance = 0.0f;                // of a free loop to the ball
 };
 Landing DropOnTrampoline(float mass, float speed, float seconds) {
-  const KnitCloth cloth = FlatKnitCloth(15, 15, 1.0f, 1.0f, glm::vec3(-7, -7, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  const KnitCloth cloth =
+      FlatKnitCloth(15, 15, 1.0f, 1.0f, glm::vec3(-7, -7, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
   const Motion throw_down(glm::vec3(0, 0, -speed), 0.0, 0.01);
   KnitSimulation sim(cloth, KnitMechanics{}, {Collider::Sphere(glm::vec3(0, 0, 5), 3.0f).Moving(throw_down)});
   for (int j = 0; j < 15; ++j) {
