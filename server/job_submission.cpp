@@ -47,10 +47,27 @@ void CheckNoUnknownFields(const google::protobuf::Message& message, const std::s
   }
 }
 
+using FieldMeshes = std::vector<std::pair<std::string, const v1::MeshRef*>>;
+
+// The meshes a render's scene objects and an animation's mesh colliders name,
+// each with its field path in a submit request.
+FieldMeshes PayloadMeshes(const v1::RenderJob& render, const v1::AnimateJob& animate) {
+  FieldMeshes meshes;
+  for (int i = 0; i < render.scene().objects_size(); ++i) {
+    meshes.emplace_back("scene.objects[" + std::to_string(i) + "].mesh", &render.scene().objects(i).mesh());
+  }
+  for (int k = 0; k < animate.animation().colliders_size(); ++k) {
+    const v1::ColliderSpec& collider = animate.animation().colliders(k);
+    if (collider.has_mesh()) {
+      meshes.emplace_back("animation.colliders[" + std::to_string(k) + "].mesh.mesh", &collider.mesh().mesh());
+    }
+  }
+  return meshes;
+}
+
 // Meshes (each with its field path) must be built-in or uploaded artifacts (hashes
 // already validated); returns the artifacts' hashes.
-std::set<std::string> CheckMeshSources(const std::vector<std::pair<std::string, const v1::MeshRef*>>& meshes,
-                                       ArtifactStore& artifacts) {
+std::set<std::string> CheckMeshSources(const FieldMeshes& meshes, ArtifactStore& artifacts) {
   std::set<std::string> hashes;
   for (const auto& [path, ref] : meshes) {
     const v1::MeshRef& mesh = *ref;
@@ -122,11 +139,9 @@ std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
 
 std::vector<const v1::MeshRef*> UploadedMeshes(const v1::Job& job) {
   std::vector<const v1::MeshRef*> meshes;
-  for (const v1::SceneObject& object : job.render().scene().objects()) meshes.push_back(&object.mesh());
-  for (const v1::ColliderSpec& collider : job.animate().animation().colliders()) {
-    if (collider.has_mesh()) meshes.push_back(&collider.mesh().mesh());
+  for (const auto& [path, mesh] : PayloadMeshes(job.render(), job.animate())) {
+    if (mesh->source_case() == v1::MeshRef::kArtifact) meshes.push_back(mesh);
   }
-  std::erase_if(meshes, [](const v1::MeshRef* mesh) { return mesh->source_case() != v1::MeshRef::kArtifact; });
   return meshes;
 }
 
@@ -173,13 +188,7 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   if (request.payload_case() == v1::SubmitJobRequest::kAnimate) {
     const v1::AnimationSpec& animation = request.animate().animation();
     ThrowIfAny(Validate(animation));
-    std::vector<std::pair<std::string, const v1::MeshRef*>> colliders;
-    for (int k = 0; k < animation.colliders_size(); ++k) {
-      if (!animation.colliders(k).has_mesh()) continue;
-      colliders.emplace_back("animation.colliders[" + std::to_string(k) + "].mesh.mesh",
-                             &animation.colliders(k).mesh().mesh());
-    }
-    const std::set<std::string> meshes = CheckMeshSources(colliders, artifacts);
+    const std::set<std::string> meshes = CheckMeshSources(PayloadMeshes({}, request.animate()), artifacts);
     // Builds the mesh colliders now, so a mesh that is not closed is refused here
     // rather than failing on a worker.
     animate::BuildColliders(WithDefaults(animation), [&artifacts](const v1::MeshRef& mesh, const TextSink& consume) {
@@ -201,11 +210,7 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
 
   const v1::SceneSpec& scene = request.render().scene();
   ThrowIfAny(Validate(scene));
-  std::vector<std::pair<std::string, const v1::MeshRef*>> objects;
-  for (int i = 0; i < scene.objects_size(); ++i) {
-    objects.emplace_back("scene.objects[" + std::to_string(i) + "].mesh", &scene.objects(i).mesh());
-  }
-  const std::set<std::string> meshes = CheckMeshSources(objects, artifacts);
+  const std::set<std::string> meshes = CheckMeshSources(PayloadMeshes(request.render(), {}), artifacts);
   v1::SceneSpec full = WithDefaults(scene);
   // Parses every mesh now (errors name the object), so a bad OBJ is refused here
   // rather than failing on a worker.

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/animate/mesh_distance.h"
 #include "core/spec/defaults.h"
 #include "core/spec/validate.h"
 #include "core/util/error.h"

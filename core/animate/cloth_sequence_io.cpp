@@ -108,7 +108,6 @@ std::vector<RigidTrack> SolidTracks(const ClothAnimation& animation) {
     if (!collider.sphere()) continue;
     RigidTrack track{"collider_" + std::to_string(k), MakeSphere(kSolidSegments), animation.collider_tracks.at(k)};
     for (glm::vec3& p : track.mesh.positions) p = collider.centre() + collider.radius() * p;
-    track.mesh.normals.clear(), track.mesh.tangents.clear();
     solids.push_back(std::move(track));
   }
   return solids;

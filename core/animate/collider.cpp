@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/animate/mesh_distance.h"
 #include "core/util/error.h"
 
 namespace loom::animate {

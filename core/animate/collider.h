@@ -1,18 +1,19 @@
 #pragma once
 // A solid a knit cloth falls on (the lumislice paper §4.1.2: "other objects"):
 // a plane, a sphere, a box or a closed mesh, as a signed distance with the
-// outward normal,
-// which is what the thickness force field and friction need of it, moved
-// rigidly (without turning) along a Motion or, for a free ball, by the
+// outward normal, which is what the thickness force field and friction need of
+// it, moved rigidly (without turning) along a Motion or, for a free ball, by the
 // simulation (core/animate/knit_simulation.h).
 
 #include <glm/glm.hpp>
 #include <memory>
 
-#include "core/animate/mesh_distance.h"
+#include "core/animate/contact.h"
 #include "core/animate/motion.h"
 
 namespace loom::animate {
+
+class MeshDistance;
 
 class Collider {
  public:

@@ -33,7 +33,7 @@ struct Query {
   const TriangleMesh* mesh;
   glm::vec3 p;
   uint32_t triangle = 0;
-  TrianglePoint nearest;
+  TrianglePoint nearest{};
   float distance = std::numeric_limits<float>::infinity();
 };
 

@@ -11,14 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "core/animate/contact.h"
 #include "core/scene/triangle_mesh.h"
 
 namespace loom::animate {
-
-struct Contact {
-  float distance = 0.0f;               // signed: negative inside the solid
-  glm::vec3 normal{0.0f, 0.0f, 1.0f};  // outward, unit
-};
 
 class MeshDistance {
  public:
