@@ -1,9 +1,9 @@
 // loom-lab animate: an animation spec run by the knit model (docs/animation.md),
 // written as a glTF sequence and OBJ frames, with its figures.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 
 #include "core/animate/animation.h"
 #include "core/animate/cloth_sequence_io.h"
@@ -49,17 +49,23 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
             }
             const auto& counts = animation.counts;
             const size_t triangles = 2 * size_t(animation.cloth.across - 1) * (animation.cloth.along - 1);
-            // Each sphere's centre: its lowest height, and where it ends.
+            // Each sphere's centre: its lowest height, the highest it rises to after
+            // that (a rebound), and where it ends.
             nlohmann::json spheres = nlohmann::json::array();
             for (size_t k = 0; k < animation.colliders.size(); ++k) {
               if (!animation.colliders[k].sphere()) continue;
               const std::vector<glm::vec3>& track = animation.collider_tracks[k];
               const glm::vec3 centre = animation.colliders[k].centre();
-              float lowest = std::numeric_limits<float>::infinity();
-              for (const glm::vec3& moved : track) lowest = std::min(lowest, centre.z + moved.z);
+              const auto lowest = std::min_element(
+                  track.begin(), track.end(), [](glm::vec3 a, glm::vec3 b) { return a.z < b.z; });
+              const float rebound = std::max_element(lowest, track.end(), [](glm::vec3 a, glm::vec3 b) {
+                                      return a.z < b.z;
+                                    })->z;
               const glm::vec3 end = centre + track.back();
-              spheres.push_back(
-                  {{"collider", k}, {"lowest_centre_z", lowest}, {"final_centre", {end.x, end.y, end.z}}});
+              spheres.push_back({{"collider", k},
+                                 {"lowest_centre_z", centre.z + lowest->z},
+                                 {"rebound_centre_z", centre.z + rebound},
+                                 {"final_centre", {end.x, end.y, end.z}}});
             }
             if (flags.json) {
               PrintJson({{"loops", animation.cloth.size()},

@@ -60,6 +60,17 @@ std::vector<Collider> BuildColliders(const v1::AnimationSpec& spec, const MeshTe
   return colliders;
 }
 
+KnitMechanics Mechanics(const v1::KnitMechanicsSpec& spec) {
+  KnitMechanics mechanics;
+  if (spec.has_contact_damping()) mechanics.contact_damping = spec.contact_damping();
+  if (spec.has_static_friction()) mechanics.static_friction = spec.static_friction();
+  if (spec.has_dynamic_friction()) mechanics.dynamic_friction = spec.dynamic_friction();
+  if (spec.has_air_viscosity()) mechanics.air_viscosity = spec.air_viscosity();
+  if (spec.has_courant()) mechanics.courant = spec.courant();
+  if (spec.has_self_collision()) mechanics.self_collision = spec.self_collision();
+  return mechanics;
+}
+
 ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<void(size_t, size_t)>& progress,
                             unsigned threads, const MeshTextResolver& meshes) {
   ThrowIfAny(Validate(raw));
@@ -72,7 +83,7 @@ ClothAnimation RunAnimation(const v1::AnimationSpec& raw, const std::function<vo
   animation.frames_per_second = spec.frames_per_second();
 
   animation.colliders = BuildColliders(spec, meshes);
-  KnitMechanics mechanics;
+  KnitMechanics mechanics = Mechanics(spec.mechanics());
   mechanics.threads = threads;
   KnitSimulation simulation(animation.cloth, mechanics, animation.colliders);
   for (int k = 0; k < spec.colliders_size(); ++k) {

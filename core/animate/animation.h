@@ -34,6 +34,9 @@ struct ClothAnimation {
 // colliders read through `meshes` and built (errors name the collider).
 std::vector<Collider> BuildColliders(const v1::AnimationSpec& spec, const MeshTextResolver& meshes);
 
+// Loom's default mechanics with what the spec sets in place of the defaults.
+KnitMechanics Mechanics(const v1::KnitMechanicsSpec& spec);
+
 // The spec is validated first (Error(kInvalidArgument) naming each bad field).
 // progress(done, total) after each frame; `threads` for the contact search (0:
 // every core); `meshes` reads the mesh colliders' files (none: a mesh collider

@@ -182,6 +182,12 @@ inline constexpr int kMaxPins = 4096;
 inline constexpr int kMaxColliders = 64;
 // Legs of a pin's or a collider's motion.
 inline constexpr int kMaxMotionLegs = 64;
+// The knit model's constants a spec may set (KnitMechanicsSpec; the lower bounds
+// are 0).
+inline constexpr float kMaxContactDamping = 1000.0f;  // 1/s
+inline constexpr float kMaxFriction = 10.0f;
+inline constexpr float kMaxAirViscosity = 100.0f;  // 1/s
+inline constexpr float kMaxCourant = 1.0f;
 // Simulated seconds and frames. The glTF sequence holds a morph target a frame
 // and, a frame, a weight for every target (frames² floats: 36 MB at the cap).
 inline constexpr float kMaxAnimationSeconds = 600.0f;

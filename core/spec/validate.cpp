@@ -645,6 +645,17 @@ void CheckCollider(const v1::ColliderSpec& collider, float duration, const Issue
   CheckMotion(collider.motion(), duration, at);
 }
 
+void CheckMechanics(const v1::KnitMechanicsSpec& mechanics, const IssueCollector& at) {
+  at.Range("contact_damping", mechanics.contact_damping(), 0.0f, kMaxContactDamping);
+  at.Range("static_friction", mechanics.static_friction(), 0.0f, kMaxFriction);
+  at.Range("dynamic_friction", mechanics.dynamic_friction(), 0.0f, kMaxFriction);
+  at.Range("air_viscosity", mechanics.air_viscosity(), 0.0f, kMaxAirViscosity);
+  if (mechanics.has_courant()) {
+    at.Above("courant", mechanics.courant(), 0.0f);
+    at.Max("courant", mechanics.courant(), kMaxCourant);
+  }
+}
+
 void CheckAnimation(const v1::AnimationSpec& animation, const IssueCollector& at) {
   at.Length("name", animation.name(), kMaxNameLength);
   CheckCloth(animation.cloth(), at.Field("cloth"));
@@ -663,6 +674,7 @@ void CheckAnimation(const v1::AnimationSpec& animation, const IssueCollector& at
                   " loops make ", points, " points; at most ", kMaxAnimationPoints));
   }
   CheckCoordinates(at, "initial_velocity", animation.initial_velocity(), kMaxAnimationSpeed);
+  CheckMechanics(animation.mechanics(), at.Field("mechanics"));
   CheckPins(animation, at);
   at.Max("colliders", animation.colliders_size(), kMaxColliders);
   for (int i = 0; i < animation.colliders_size(); ++i) {

@@ -65,6 +65,30 @@ TEST(RunAnimation, RefusesABadSpecNamingTheField) {
   }
 }
 
+TEST(RunAnimation, TheSpecSetsTheModelsConstants) {
+  // Unset, the defaults; each one set replaces its default alone.
+  const KnitMechanics defaults;
+  const v1::AnimationSpec spec = ParseSpecJson<v1::AnimationSpec>(
+      R"({"mechanics": {"contact_damping": 0, "courant": 0.25, "self_collision": false}})", "animation");
+  const KnitMechanics set = Mechanics(spec.mechanics());
+  EXPECT_EQ(set.contact_damping, 0.0f);
+  EXPECT_EQ(set.courant, 0.25f);
+  EXPECT_FALSE(set.self_collision);
+  EXPECT_EQ(set.static_friction, defaults.static_friction);
+  EXPECT_EQ(set.air_viscosity, defaults.air_viscosity);
+  EXPECT_EQ(Mechanics({}).contact_damping, defaults.contact_damping);
+  EXPECT_TRUE(Mechanics({}).self_collision);
+  // They reach the simulation: without air the hanging cloth swings faster, and
+  // half the courant number takes more steps.
+  v1::AnimationSpec still_air = Hanging();
+  still_air.mutable_mechanics()->set_air_viscosity(0.0f);
+  v1::AnimationSpec fine = Hanging();
+  fine.mutable_mechanics()->set_courant(0.25f);
+  const ClothAnimation base = RunAnimation(Hanging()), airless = RunAnimation(still_air), finer = RunAnimation(fine);
+  EXPECT_LT(airless.frames.back()[20].z, base.frames.back()[20].z - 1e-3f);
+  EXPECT_GT(finer.counts.steps, base.counts.steps * 3 / 2);
+}
+
 TEST(ClothSequence, GltfRoundTripKeepsEveryFrame) {
   const ClothAnimation animation = RunAnimation(Hanging());
   const auto dir = ScratchDir("gltf");
