@@ -77,7 +77,7 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
     // A render's meshes are parsed here: within the server's parse slots.
     std::optional<ParseSlots::Slot> slot;
     if (request->has_render()) slot.emplace(state_.parse_slots.Acquire([context] { return context->IsCancelled(); }));
-    *response = server::SubmitJob(*request, state_.queue, state_.artifacts, state_.cache);
+    *response = server::SubmitJob(*request, state_.queue, state_.artifacts, state_.cache, &state_.sequences);
   });
 }
 

@@ -153,7 +153,7 @@ v1::Job SubmitFabricPrecompute(const SceneFabric& fabric, int32_t priority, JobQ
 }
 
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
-                                FabricCache& cache) {
+                                FabricCache& cache, MeshSequenceCache* sequences) {
   CheckNoUnknownFields(request, "request");
   if (request.client_request_id().size() > kMaxClientRequestId) {
     Invalid("client_request_id", std::to_string(request.client_request_id().size()) + " characters exceed " +
@@ -215,9 +215,12 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
   // Parses every mesh now (errors name the object), so a bad OBJ is refused here
   // rather than failing on a worker.
   const std::vector<SceneMesh> geometry =
-      BuildSceneGeometry(full, [&artifacts](const v1::MeshRef& mesh, const TextSink& consume) {
-        artifacts.ReadInPieces(mesh.artifact(), consume);
-      });
+      BuildSceneGeometry(
+          full,
+          [&artifacts](const v1::MeshRef& mesh, const TextSink& consume) {
+            artifacts.ReadInPieces(mesh.artifact(), consume);
+          },
+          sequences);
 
   v1::Job job;
   job.set_kind(v1::JOB_KIND_RENDER);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/render/scene_render.h"
+#include "core/scene/mesh_sequence_cache.h"
 #include "loom/v1/service.pb.h"
 #include "server/store/artifact_store.h"
 #include "server/store/fabric_cache.h"
@@ -19,8 +20,10 @@ namespace loom::server {
 
 // Error(kInvalidArgument) naming field and limit for a bad request; Error(kNotFound)
 // for a mesh artifact the server lacks.
+// `sequences` keeps the glTF sequences a render reads (a frame-range render reads
+// one a frame).
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
-                                FabricCache& cache);
+                                FabricCache& cache, MeshSequenceCache* sequences = nullptr);
 
 // The pin owner of a render's or an animation's mesh artifacts, held until the
 // job ends.

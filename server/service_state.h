@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scene/mesh_sequence_cache.h"
 #include "loom/v1/service.pb.h"
 #include "server/parse_slots.h"
 #include "server/store/artifact_store.h"
@@ -46,8 +47,10 @@ struct ServiceState {
   std::string worker_token;
   bool tls;
   WorkerRegistry workers;
-  // A render's SubmitJob parses its meshes in one of these.
+  // A render's SubmitJob parses its meshes in one of these…
   ParseSlots parse_slots;
+  // …and takes a glTF sequence's frames from here once it has read the sequence.
+  MeshSequenceCache sequences;
   std::atomic<bool> draining{false};
   // --result-retention-seconds: how long a finished render's frames are kept from
   // eviction after the job ends (0: not at all, they are ordinary cache entries).

@@ -115,7 +115,7 @@ NamedFile JobRunner::Render(const v1::RenderJob& job, const MeshTextResolver& me
                             const ReferenceProgress& progress) {
   const v1::SceneSpec scene = WithDefaults(job.scene());
   ValidateOrThrow(scene);
-  const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes);
+  const std::vector<SceneMesh> geometry = BuildSceneGeometry(scene, meshes, &sequences_);
   Image image;
   switch (scene.render().method()) {
     case v1::RENDER_METHOD_REFERENCE:

@@ -22,6 +22,7 @@
 #include "core/render/lumislice_renderer.h"
 #include "core/render/reference_renderer.h"
 #include "core/render/scene_render.h"
+#include "core/scene/mesh_sequence_cache.h"
 #include "core/scene/scene_geometry.h"
 #include "loom/v1/job.pb.h"
 
@@ -57,10 +58,12 @@ class JobRunner {
   // the scene's method: the GPU renderer on the context, the lumislice renderer on it
   // (its knit fabrics' lumislices built for the job, or kept from one of the last
   // kLumisliceCacheFabrics fabrics' jobs), or the reference ray tracer.
-  // `meshes` resolves uploaded mesh artifacts; for the GPU, `assets` holds every
-  // fabric the scene names (core/render/scene_render.h). `progress` hears of the
-  // reference's pixel rows (an svbrdf frame takes too little time to report on);
-  // what it throws abandons the render.
+  // `meshes` resolves uploaded mesh artifacts (a glTF sequence is read once and
+  // its later frames taken from memory: core/scene/mesh_sequence_cache.h); for
+  // the GPU, `assets` holds every fabric the scene names
+  // (core/render/scene_render.h). `progress` hears of the reference's pixel rows
+  // (an svbrdf frame takes too little time to report on); what it throws
+  // abandons the render.
   NamedFile Render(const v1::RenderJob& job, const MeshTextResolver& meshes, const FabricAssets& assets,
                    const ReferenceProgress& progress = {});
 
@@ -79,6 +82,7 @@ class JobRunner {
   std::unique_ptr<GpuRenderer> renderer_;
   std::unique_ptr<LumisliceRenderer> lumislice_renderer_;   // made for the first lumislice job
   LumisliceCache lumislice_cache_{kLumisliceCacheFabrics};  // the last lumislice jobs' knit fabrics
+  MeshSequenceCache sequences_;                             // the glTF sequences of the last frames' scenes
   std::filesystem::path scratch_;
   uint64_t next_scratch_ = 0;
 };

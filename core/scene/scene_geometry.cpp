@@ -55,11 +55,16 @@ void CheckWithinLimits(const TriangleMesh& mesh, const MeshLimits& left, const s
 }
 
 // A mesh file streamed in pieces: an OBJ parsed as it arrives, a glTF (by its
-// first bytes, LooksLikeGltf) gathered whole and read at the end.
+// first bytes, LooksLikeGltf) gathered whole and read at the end: only the frame
+// asked for, or with `whole_sequence` every frame, kept in sequence().
 class MeshFileParser {
  public:
-  MeshFileParser(std::string label, const MeshLimits& left, const v1::MeshRef& ref)
-      : label_(std::move(label)), left_(left), frame_(ref.frame()), gltf_mesh_(ref.gltf_mesh()) {}
+  MeshFileParser(std::string label, const MeshLimits& left, const v1::MeshRef& ref, bool whole_sequence)
+      : label_(std::move(label)),
+        left_(left),
+        frame_(ref.frame()),
+        gltf_mesh_(ref.gltf_mesh()),
+        whole_sequence_(whole_sequence) {}
 
   void Feed(std::string_view piece) {
     if (obj_) return obj_->Feed(piece);
@@ -74,10 +79,18 @@ class MeshFileParser {
       if (!gltf_mesh_.empty()) Fail("gltf_mesh '" + gltf_mesh_ + "' of an OBJ mesh");
       return obj_->Finish();
     }
-    TriangleMesh mesh = ParseGltfFrame(head_, frame_, "mesh " + label_, gltf_mesh_);
+    TriangleMesh mesh;
+    if (whole_sequence_) {
+      sequence_ = std::make_shared<const MeshSequence>(ParseGltfSequence(head_, "mesh " + label_, gltf_mesh_));
+      mesh = SequenceFrame(*sequence_, frame_, "mesh " + label_);
+    } else {
+      mesh = ParseGltfFrame(head_, frame_, "mesh " + label_, gltf_mesh_);
+    }
     CheckWithinLimits(mesh, left_, label_);
     return mesh;
   }
+  // The glTF's every frame, once Finish() has read them (whole_sequence only).
+  std::shared_ptr<const MeshSequence> sequence() const { return sequence_; }
 
  private:
   // Enough to see "glTF", or a "{" behind some white space.
@@ -97,6 +110,8 @@ class MeshFileParser {
   const MeshLimits left_;
   const uint32_t frame_;
   const std::string gltf_mesh_;
+  const bool whole_sequence_;
+  std::shared_ptr<const MeshSequence> sequence_;
   std::string head_;  // the bytes so far, until the format is known; all of a glTF's
   bool gltf_ = false;
   std::unique_ptr<ObjParser> obj_;
@@ -130,7 +145,8 @@ glm::mat4 ModelMatrix(const v1::Transform& transform) {
   return glm::scale(model, ToGlm(transform.scale()));
 }
 
-std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve) {
+std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve,
+                                          MeshSequenceCache* sequences) {
   std::vector<SceneMesh> meshes;
   MeshLimits left;  // what the objects so far have left of the scene's caps
   for (int i = 0; i < scene.objects_size(); ++i) {
@@ -145,9 +161,17 @@ std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const Mesh
       built.mesh = BuiltinMesh(ref.builtin(), segments);
       CheckWithinLimits(built.mesh, left, label);
     } else {
-      MeshFileParser parser(label, left, ref);
-      resolve(ref, [&parser](std::string_view piece) { parser.Feed(piece); });
-      built.mesh = parser.Finish();
+      // Only artifacts are kept: their content never changes under their name.
+      const bool keep = sequences && ref.source_case() == v1::MeshRef::kArtifact;
+      if (const auto kept = keep ? sequences->Find(ref.artifact(), ref.gltf_mesh()) : nullptr) {
+        built.mesh = SequenceFrame(*kept, ref.frame(), "mesh " + label);
+        CheckWithinLimits(built.mesh, left, label);
+      } else {
+        MeshFileParser parser(label, left, ref, keep);
+        resolve(ref, [&parser](std::string_view piece) { parser.Feed(piece); });
+        built.mesh = parser.Finish();
+        if (parser.sequence()) sequences->Keep(ref.artifact(), ref.gltf_mesh(), parser.sequence());
+      }
     }
     left.triangles -= static_cast<int64_t>(built.mesh.triangle_count());
     left.vertices -= static_cast<int64_t>(built.mesh.positions.size());

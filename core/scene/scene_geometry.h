@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/scene/mesh_preparation.h"
+#include "core/scene/mesh_sequence_cache.h"
 #include "core/scene/triangle_mesh.h"
 #include "loom/v1/scene.pb.h"
 
@@ -37,8 +38,10 @@ MeshTextResolver FileMeshResolver(const std::filesystem::path& scene_directory);
 // object's mesh counts towards one MeshLimits (core/scene/obj_loader.h): the
 // scene's triangles and vertices together stay within the caps, whatever its
 // objects repeat. An object with a fabric needs texture coordinates; one without
-// may have none (it is plain diffuse).
-std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve);
+// may have none (it is plain diffuse). With `sequences`, a glTF artifact's
+// sequence is taken from it when kept there, and kept there when read.
+std::vector<SceneMesh> BuildSceneGeometry(const v1::SceneSpec& scene, const MeshTextResolver& resolve,
+                                          MeshSequenceCache* sequences = nullptr);
 
 // The bounding box of every mesh of a scene.
 Bounds SceneGeometryBounds(const std::vector<SceneMesh>& meshes);
