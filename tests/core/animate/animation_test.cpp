@@ -78,7 +78,7 @@ TEST(RunAnimation, TheSpecSetsTheModelsConstants) {
   EXPECT_EQ(set.air_viscosity, defaults.air_viscosity);
   EXPECT_EQ(Mechanics({}).contact_damping, defaults.contact_damping);
   EXPECT_TRUE(Mechanics({}).self_collision);
-  // They reach the simulation: without air the hanging cloth swings faster, and
+  // They reach the simulation: without air the hanging cloth falls faster, and
   // half the courant number takes more steps.
   v1::AnimationSpec still_air = Hanging();
   still_air.mutable_mechanics()->set_air_viscosity(0.0f);
