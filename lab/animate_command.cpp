@@ -56,11 +56,9 @@ LabCommand AddAnimateCommand(CLI::App& app, const LabFlags& flags) {
               if (!animation.colliders[k].sphere()) continue;
               const std::vector<glm::vec3>& track = animation.collider_tracks[k];
               const glm::vec3 centre = animation.colliders[k].centre();
-              const auto lowest = std::min_element(
-                  track.begin(), track.end(), [](glm::vec3 a, glm::vec3 b) { return a.z < b.z; });
-              const float rebound = std::max_element(lowest, track.end(), [](glm::vec3 a, glm::vec3 b) {
-                                      return a.z < b.z;
-                                    })->z;
+              const auto lower = [](glm::vec3 a, glm::vec3 b) { return a.z < b.z; };
+              const auto lowest = std::min_element(track.begin(), track.end(), lower);
+              const float rebound = std::max_element(lowest, track.end(), lower)->z;
               const glm::vec3 end = centre + track.back();
               spheres.push_back({{"collider", k},
                                  {"lowest_centre_z", centre.z + lowest->z},

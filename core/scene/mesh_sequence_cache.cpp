@@ -22,7 +22,7 @@ std::shared_ptr<const MeshSequence> MeshSequenceCache::Find(const std::string& a
                                                              const std::string& mesh_name) {
   const std::string key = Key(artifact, mesh_name);
   const std::lock_guard lock(mutex_);
-  const auto found = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
+  const auto found = Locate(key);
   if (found == entries_.end()) return nullptr;
   entries_.splice(entries_.begin(), entries_, found);
   return found->sequence;
@@ -34,7 +34,7 @@ void MeshSequenceCache::Keep(const std::string& artifact, const std::string& mes
   if (bytes > budget_) return;
   const std::string key = Key(artifact, mesh_name);
   const std::lock_guard lock(mutex_);
-  const auto found = std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
+  const auto found = Locate(key);
   if (found != entries_.end()) {
     bytes_ -= found->bytes;
     entries_.erase(found);
@@ -45,6 +45,10 @@ void MeshSequenceCache::Keep(const std::string& artifact, const std::string& mes
   }
   entries_.push_front({key, std::move(sequence), bytes});
   bytes_ += bytes;
+}
+
+std::list<MeshSequenceCache::Entry>::iterator MeshSequenceCache::Locate(const std::string& key) {
+  return std::find_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.key == key; });
 }
 
 size_t MeshSequenceCache::bytes() const {

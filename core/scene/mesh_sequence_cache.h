@@ -35,6 +35,9 @@ class MeshSequenceCache {
     std::shared_ptr<const MeshSequence> sequence;
     size_t bytes = 0;
   };
+  // The entry of `key`, or end(); under mutex_.
+  std::list<Entry>::iterator Locate(const std::string& key);
+
   const size_t budget_;
   mutable std::mutex mutex_;
   std::list<Entry> entries_;  // the most recently used first

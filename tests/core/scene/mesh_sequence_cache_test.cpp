@@ -2,36 +2,14 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
-#include "core/animate/cloth_sequence_io.h"
 #include "core/scene/scene_geometry.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
-#include "core/util/file_io.h"
+#include "tests/core/scene/triangle_sequence.h"
 
 namespace loom {
 namespace {
-
-// One triangle over two frames (the cloth, its frame 1 raised by 1) and a second
-// mesh "ball" raised by 2 at frame 1.
-MeshSequence Triangle() {
-  MeshSequence sequence;
-  sequence.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  sequence.mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
-  sequence.mesh.indices = {0, 1, 2};
-  sequence.frames = {sequence.mesh.positions, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
-  sequence.times = {0.0f, 0.04f};
-  return sequence;
-}
-
-std::string TriangleGlb() {
-  const MeshSequence sequence = Triangle();
-  const auto path = std::filesystem::path(::testing::TempDir()) / "mesh_sequence_cache_test.glb";
-  animate::WriteGltfSequence(sequence, path, {{"ball", sequence.mesh, {glm::vec3(0), glm::vec3(0, 0, 2)}}});
-  return ReadFile(path);
-}
 
 // A scene of frame `frame` of mesh `mesh` of artifact "a1" (or of a file).
 v1::SceneSpec FrameOf(int frame, const std::string& mesh = "", bool file = false) {
@@ -43,7 +21,7 @@ v1::SceneSpec FrameOf(int frame, const std::string& mesh = "", bool file = false
 }
 
 TEST(MeshSequenceCache, AnArtifactsSequenceIsReadOnceForAllItsFrames) {
-  const std::string glb = TriangleGlb();
+  const std::string glb = scene_test::TriangleSequenceGlb("mesh_sequence_cache_test");
   int reads = 0;
   const MeshTextResolver bytes = [&](const v1::MeshRef&, const TextSink& consume) {
     ++reads;
@@ -80,7 +58,7 @@ TEST(MeshSequenceCache, AnArtifactsSequenceIsReadOnceForAllItsFrames) {
 }
 
 TEST(MeshSequenceCache, KeepsWithinItsBudgetDroppingTheLeastRecentlyUsed) {
-  const auto triangle = std::make_shared<const MeshSequence>(Triangle());
+  const auto triangle = std::make_shared<const MeshSequence>(scene_test::TriangleSequence());
   const size_t size = 3 * sizeof(glm::vec2) + 3 * sizeof(uint32_t) + 2 * 3 * sizeof(glm::vec3);
   MeshSequenceCache cache(2 * size + size / 2);  // two fit, three do not
   cache.Keep("a", "", triangle);

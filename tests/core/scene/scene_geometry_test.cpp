@@ -3,15 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <filesystem>
 
-#include "core/animate/cloth_sequence_io.h"
 #include "core/scene/camera.h"
-#include "core/scene/gltf_loader.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 #include "core/util/error.h"
-#include "core/util/file_io.h"
+#include "tests/core/scene/triangle_sequence.h"
 
 namespace loom {
 namespace {
@@ -77,17 +74,7 @@ MeshTextResolver Bytewise(std::string bytes) {
 }
 
 TEST(SceneGeometry, GltfSequenceFramesAndObjsAreToldApartWhateverThePieces) {
-  MeshSequence sequence;
-  sequence.mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  sequence.mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
-  sequence.mesh.indices = {0, 1, 2};
-  sequence.frames = {sequence.mesh.positions, {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}};
-  sequence.times = {0.0f, 0.04f};
-  const auto path = std::filesystem::path(::testing::TempDir()) / "scene_geometry_test_sequence.glb";
-  // With a second mesh, "ball", moved up 2 at frame 1.
-  animate::RigidTrack ball{"ball", sequence.mesh, {glm::vec3(0), glm::vec3(0, 0, 2)}};
-  animate::WriteGltfSequence(sequence, path, {ball});
-  const std::string glb = ReadFile(path);
+  const std::string glb = scene_test::TriangleSequenceGlb("scene_geometry_test_sequence");
 
   const char* const json = R"({"objects": [{"mesh": {"gltf_path": "cloth.glb", "frame": %d}}],
       "camera": {"position": {"x": 0, "y": -3, "z": 1}}})";
