@@ -12,6 +12,7 @@
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
+#include "core/acquire/fibre_walk.h"
 #include "core/acquire/volume_radiance.h"
 #include "core/acquire/yarn_radiance.h"
 #include "core/acquire/yarn_shading.h"
@@ -243,20 +244,40 @@ std::vector<float> ViewDepthHeights(const PeriodicScene& scene, const RadianceSa
   return heights;
 }
 
+// Fibre walks a sub-sample's ray through volumetric yarn takes (core/acquire/fibre_walk.h).
+constexpr int kAcquisitionWalks = 4;
+
 // The volumetric yarn along one sub-sample's ray (core/acquire/volume_radiance.h): adds
 // each of the batch's lights' radiance, premultiplied by the ray's opacity, to
-// scratch.sum; returns the opacity.
+// scratch.sum, the light scattered between fibres by kAcquisitionWalks walks from a step
+// drawn by its weight; returns the opacity.
 float AcquireVolumeRay(const TexelPass& pass, const RadianceSamples& samples, glm::vec3 start, glm::vec3 v, float jitter,
-                       TexelScratch& scratch) {
+                       RandomStream& walk, TexelScratch& scratch) {
+  const std::vector<YarnMaterial>& materials = pass.tile.materials;
+  auto light_direction = [&](size_t light) { return samples.light_directions[pass.first_light + light]; };
+  WeightedStep walked;
   const float transmittance = MarchVolume(*pass.tile.volume, start, -v, jitter, [&](const VolumeStep& step) {
-    const YarnMaterial& material = pass.tile.materials[step.sample.material];
+    const YarnMaterial& material = materials[step.sample.material];
     for (size_t light = 0; light < pass.light_count; ++light) {
-      const glm::vec3 l = samples.light_directions[pass.first_light + light];
-      const glm::vec3 f = FibreScattering(material, step.sample.fibre, l, v);
+      const glm::vec3 f = FibreScattering(material, step.sample.fibre, light_direction(light), v);
       if (f == glm::vec3(0.0f)) continue;
       scratch.sum[light] += step.weight * f * pass.transmittance[pass.first_light + light](step.position);
     }
+    walked.Offer(step, walk);
   });
+  if (const std::optional<VolumeStep>& step = walked.chosen()) {
+    for (int i = 0; i < kAcquisitionWalks; ++i) {
+      WalkFibres(TileVolumeMedium{*pass.tile.volume}, materials, step->position, step->sample, walk,
+                 [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
+                   const glm::vec3 weight = walked.total() / kAcquisitionWalks * throughput;
+                   for (size_t light = 0; light < pass.light_count; ++light) {
+                     const glm::vec3 f =
+                         FibreDiffuseScattering(materials[at.material], at.fibre, light_direction(light));
+                     scratch.sum[light] += weight * f * pass.transmittance[pass.first_light + light](q);
+                   }
+                 });
+    }
+  }
   return 1.0f - transmittance;
 }
 
@@ -284,8 +305,10 @@ glm::vec3 AcquireTexel(const TexelPass& pass, RadianceSamples& samples, size_t t
             const SurfacePoint point = MakeSurfacePoint(pass.tile, *hit, -v);
             normal_sum += point.front ? point.normal : -point.normal;
           }
-          RandomStream jitter(pass.seed, RandomStream::kVolumeJitter, (texel * samples.view_count() + view) * s * s + j * s + i);
-          covered += AcquireVolumeRay(pass, samples, start, v, jitter.Uniform(), scratch);
+          const uint64_t ray = (texel * samples.view_count() + view) * s * s + j * s + i;
+          RandomStream jitter(pass.seed, RandomStream::kVolumeJitter, ray);
+          RandomStream walk(pass.seed, RandomStream::kFibreWalk, ray);
+          covered += AcquireVolumeRay(pass, samples, start, v, jitter.Uniform(), walk, scratch);
           continue;
         }
         if (!hit) continue;

@@ -12,7 +12,7 @@ namespace loom {
 class RandomStream {
  public:
   // Uses of random numbers in acquisition; each gets independent streams.
-  enum Stream : uint64_t { kTexelJitter = 1, kGatherDirections = 2, kVolumeJitter = 3 };
+  enum Stream : uint64_t { kTexelJitter = 1, kGatherDirections = 2, kVolumeJitter = 3, kFibreWalk = 4 };
 
   RandomStream(uint64_t seed, Stream stream, uint64_t index) : state_(Mix(seed ^ Mix(stream ^ Mix(index)))) {}
 

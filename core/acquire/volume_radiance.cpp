@@ -4,6 +4,7 @@
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 
+#include "core/acquire/fibre_walk.h"
 #include "core/acquire/kajiya_kay_brdf.h"
 
 namespace loom {
@@ -21,8 +22,8 @@ glm::vec3 FibreScattering(const YarnMaterial& material, glm::vec3 fibre, glm::ve
   const float sin_v = std::sqrt(1.0f - cos_v * cos_v);
   const float psi = std::clamp(sin_l * sin_v - cos_l * cos_v, 0.0f, 1.0f);
   const float exponent = std::max(material.specular_exponent, 0.0f);
-  return 2.0f * (material.diffuse_albedo * glm::one_over_pi<float>() * sin_l +
-                 material.specular_albedo * KajiyaKayNormalisation(exponent) * std::pow(psi, exponent));
+  return FibreDiffuseScattering(material, fibre, l) +
+         2.0f * material.specular_albedo * KajiyaKayNormalisation(exponent) * std::pow(psi, exponent);
 }
 
 glm::vec2 SlabInterval(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction) {

@@ -3,28 +3,38 @@
 // emission–absorption model (§5.1, eq. 4–9) marched along rays, what the reference
 // renderer and acquisition see of knit yarns with plies or fuzz. Along a view ray
 //
-//   L = Σ_k T_k (1 − e^{−σ_k h}) · Σ_lights E f_v(l, v, t_k) T_l(p_k),
+//   L = Σ_k T_k (1 − e^{−σ_k h}) · [Σ_lights E f_v(l, v, t_k) T_l(p_k) + I_ms(p_k)],
 //
 // T_k the transmittance from the ray's entry to step k, σ_k the extinction there, h the
 // step, T_l(p) the transmittance from p towards the light (eq. 5), t_k the fibre
-// direction. f_v is the yarn's Kajiya–Kay fibre shading scaled so that a thick flat bed
-// of fibres lit and seen along its normal reflects as the yarn's Lambertian surface does;
-// no scattering between fibres beyond that (the paper's I_msp is left out). Derivation
-// and limits: docs/lumislice.md.
+// direction. f_v is the fibre's diffuse scattering with its physical albedo plus its
+// Kajiya–Kay specular lobe; I_ms the light scattered between fibres (the paper's I_msp),
+// estimated by random walks (core/acquire/fibre_walk.h) from one step drawn by its
+// weight. Derivation and limits: docs/lumislice.md.
 //
 // Rays are in tile space; they end where they leave the volume's z slab (or after
 // kMaxHorizontalTiles of travel for one along it). Steps start at `jitter` ∈ [0, 1) of a
 // step from the ray's entry into the slab.
 
+#include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <vector>
 
+#include "core/acquire/random_stream.h"
 #include "core/fabric/fabric_tile.h"
 #include "core/fabric/yarn_volume.h"
 
 namespace loom {
 
-// f_v(l, v, t) = 2 (ρ_d/π · sin(t, l) + ρ_s N(p) ψ^p), ψ as in core/acquire/kajiya_kay_brdf.h.
+// Version of the light model in the volume (this unit and core/acquire/fibre_walk.h):
+// part of the cache key of a fabric with a yarn volume (core/spec/fabric_key.h), so that
+// changing the model invalidates the assets acquired from it, and only those.
+inline constexpr uint32_t kVolumeLightModelVersion = 2;
+
+// f_v(l, v, t) = f_d(l, v, t) + 2 ρ_s N(p) ψ^p: the diffuse scattering of
+// core/acquire/fibre_walk.h and the Kajiya–Kay lobe (ψ as in core/acquire/kajiya_kay_brdf.h),
+// scaled so that a thick flat bed of fibres reflects it as the yarn's surface does.
 glm::vec3 FibreScattering(const YarnMaterial& material, glm::vec3 fibre, glm::vec3 l, glm::vec3 v);
 
 // Below this transmittance a march stops: what lies further adds less than 10⁻⁴.
@@ -62,6 +72,31 @@ float MarchVolume(const YarnVolume& volume, glm::vec3 origin, glm::vec3 directio
   }
   return transmittance;
 }
+
+// The tile's volume as a medium for fibre walks (core/acquire/fibre_walk.h).
+struct TileVolumeMedium {
+  const YarnVolume& volume;
+  VolumeSample Sample(glm::vec3 p) const { return volume.Sample(p); }
+  float ModelLength(glm::vec3 v) const { return volume.ModelLength(v); }
+  float step() const { return volume.step(); }
+  glm::vec2 Interval(glm::vec3 origin, glm::vec3 direction) const { return SlabInterval(volume, origin, direction); }
+};
+
+// Draws one of a march's steps with probability weight / Σ weights (a weighted
+// reservoir of one): what a ray's I_ms is estimated from, times Σ weights.
+class WeightedStep {
+ public:
+  void Offer(const VolumeStep& step, RandomStream& random) {
+    total_ += step.weight;
+    if (random.Uniform() * total_ < step.weight) chosen_ = step;
+  }
+  float total() const { return total_; }
+  const std::optional<VolumeStep>& chosen() const { return chosen_; }
+
+ private:
+  float total_ = 0.0f;
+  std::optional<VolumeStep> chosen_;
+};
 
 // T from `origin` along `direction` to where the ray leaves the slab.
 float VolumeTransmittance(const YarnVolume& volume, glm::vec3 origin, glm::vec3 direction, float jitter);

@@ -13,6 +13,7 @@
 #include "core/acquire/periodic_scene.h"
 #include "core/acquire/random_stream.h"
 #include "core/acquire/surface_point.h"
+#include "core/acquire/fibre_walk.h"
 #include "core/acquire/volume_radiance.h"
 #include "core/acquire/yarn_radiance.h"
 #include "core/acquire/yarn_shading.h"
@@ -282,9 +283,10 @@ class Tracer {
       : scene_(scene), meshes_(meshes), macro_(macro), cloth_(cloth), lights_(lights), epsilon_(epsilon) {}
 
   // Radiance arriving at `origin` along −direction (unit); tfar from the camera's clip range.
-  // `jitter` ∈ [0, 1) offsets the steps of marches through volumetric yarn.
-  glm::vec3 Radiance(glm::vec3 origin, glm::vec3 direction, float tfar, float jitter, uint64_t& rays,
-                     std::vector<glm::vec3>& scratch) const {
+  // `jitter` ∈ [0, 1) offsets the steps of marches through volumetric yarn; `walk` draws
+  // its fibre walks.
+  glm::vec3 Radiance(glm::vec3 origin, glm::vec3 direction, float tfar, float jitter, RandomStream& walk,
+                     uint64_t& rays, std::vector<glm::vec3>& scratch) const {
     float tnear = 0.0f;
     glm::vec3 radiance(0.0f);
     float throughput = 1.0f;
@@ -297,7 +299,7 @@ class Tracer {
       const MacroSurface surface =
           MakeMacroSurface(mesh.mesh, *hit, origin, direction, cloth ? cloth->repeat : glm::vec2(1.0f));
       if (!cloth) return radiance + throughput * PlainRadiance(*mesh.object, surface, jitter, rays);
-      const ClothLight yarn = ClothRadiance(*cloth, surface, direction, jitter, rays, scratch);
+      const ClothLight yarn = ClothRadiance(*cloth, surface, direction, jitter, walk, rays, scratch);
       radiance += throughput * yarn.radiance;
       throughput *= yarn.transmittance;
       if (throughput < kMinThroughput) return radiance;
@@ -367,11 +369,11 @@ class Tracer {
     float transmittance = 1.0f;
   };
   ClothLight ClothRadiance(const ClothFabric& cloth, const MacroSurface& surface, glm::vec3 direction, float jitter,
-                           uint64_t& rays, std::vector<glm::vec3>& irradiance) const {
+                           RandomStream& walk, uint64_t& rays, std::vector<glm::vec3>& irradiance) const {
     const SurfaceFrame& frame = surface.frame;
     const std::optional<ShellRay> ray = EnterShell(cloth, surface, direction);
     if (!ray) return {};
-    if (cloth.tile.volume) return VolumeRadiance(cloth, surface, *ray, jitter, rays);
+    if (cloth.tile.volume) return VolumeRadiance(cloth, surface, *ray, jitter, walk, rays);
     const glm::vec3 d = ray->direction;
     ++rays;
     const std::optional<RayHit> hit = cloth.scene->Intersect(ray->entry, d);
@@ -422,34 +424,51 @@ class Tracer {
   }
 
   // The camera ray through volumetric yarn (core/acquire/volume_radiance.h): each step's
-  // fibres lit by every light through the volume and the world, and by the ambient.
+  // fibres lit by every light through the volume and the world, and by the ambient; the
+  // light scattered between fibres walked from one step drawn by its weight.
   ClothLight VolumeRadiance(const ClothFabric& cloth, const MacroSurface& surface, const ShellRay& ray, float jitter,
-                            uint64_t& rays) const {
+                            RandomStream& walk, uint64_t& rays) const {
     const YarnVolume& volume = *cloth.tile.volume;
     const SurfaceFrame& frame = surface.frame;
     const glm::vec3 v = -ray.direction;
     const glm::vec3 ambient = ToGlm(scene_.ambient());
-    ClothLight result;
-    result.transmittance = MarchVolume(volume, ray.entry, ray.direction, jitter, [&](const VolumeStep& step) {
-      const YarnMaterial& material = cloth.tile.materials[step.sample.material];
-      const float along = glm::dot(step.position - ray.entry, ray.direction);
-      const glm::vec3 world = surface.position + frame.ToWorld(ray.direction * (along - ray.back_up));
-      glm::vec3 light_sum = ambient * material.diffuse_albedo;
+    // Σ_lights E f T_l at tile point p, f(l) the fibres' scattering towards the light.
+    auto lit = [&](glm::vec3 p, auto&& scattering) {
+      const glm::vec3 world = surface.position + frame.ToWorld(p - ray.entry - ray.direction * ray.back_up);
+      glm::vec3 sum(0.0f);
       for (const SceneLight& light : lights_) {
         glm::vec3 light_irradiance;
         const glm::vec3 world_l = light.Direction(world, light_irradiance);
         const glm::vec3 l = SafeNormalize(frame.ToTile(world_l), glm::vec3(0.0f));
-        const glm::vec3 f = FibreScattering(material, step.sample.fibre, l, v);
+        const glm::vec3 f = scattering(l);
         if (f == glm::vec3(0.0f)) continue;
         ++rays;
-        float transmittance = VolumeTransmittance(volume, step.position, l, jitter);
+        float transmittance = VolumeTransmittance(volume, p, l, jitter);
         if (transmittance > 0.0f) {
-          transmittance *= ShellExitTransmittance(cloth, light, frame, world, step.position.z, l, jitter, rays);
+          transmittance *= ShellExitTransmittance(cloth, light, frame, world, p.z, l, jitter, rays);
         }
-        light_sum += f * transmittance * light_irradiance;
+        sum += f * transmittance * light_irradiance;
       }
-      result.radiance += step.weight * light_sum;
+      return sum;
+    };
+    ClothLight result;
+    WeightedStep walked;
+    result.transmittance = MarchVolume(volume, ray.entry, ray.direction, jitter, [&](const VolumeStep& step) {
+      const YarnMaterial& material = cloth.tile.materials[step.sample.material];
+      const glm::vec3 direct =
+          lit(step.position, [&](glm::vec3 l) { return FibreScattering(material, step.sample.fibre, l, v); });
+      result.radiance += step.weight * (ambient * material.diffuse_albedo + direct);
+      walked.Offer(step, walk);
     });
+    if (const std::optional<VolumeStep>& step = walked.chosen()) {
+      const std::vector<YarnMaterial>& materials = cloth.tile.materials;
+      WalkFibres(TileVolumeMedium{volume}, materials, step->position, step->sample, walk,
+                 [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
+                   const glm::vec3 source =
+                       lit(q, [&](glm::vec3 l) { return FibreDiffuseScattering(materials[at.material], at.fibre, l); });
+                   result.radiance += walked.total() * throughput * source;
+                 });
+    }
     return result;
   }
 
@@ -508,6 +527,7 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
       // The jitter stream kind, indexed by pixel: each pixel's samples are its own.
       RandomStream random(settings.seed(), RandomStream::kTexelJitter, static_cast<uint64_t>(y) * width + x);
       RandomStream jitter(settings.seed(), RandomStream::kVolumeJitter, static_cast<uint64_t>(y) * width + x);
+      RandomStream walk(settings.seed(), RandomStream::kFibreWalk, static_cast<uint64_t>(y) * width + x);
       glm::vec3 sum(0.0f);
       for (uint32_t i = 0; i < samples; ++i) {
         // s² jittered strata, then uniform samples for the rest.
@@ -517,7 +537,8 @@ ReferenceFrame ReferenceRenderer::Render(const v1::SceneSpec& scene, const std::
                             1.0f - 2.0f * (static_cast<float>(y) + offset.y) / static_cast<float>(height));
         const glm::vec3 near = unproject(ndc, -1.0f), far = unproject(ndc, 1.0f);
         const glm::vec3 direction = glm::normalize(far - near);
-        sum += tracer.Radiance(near, direction, glm::length(far - near), jitter.Uniform(), rays[worker], scratch[worker]);
+        sum += tracer.Radiance(near, direction, glm::length(far - near), jitter.Uniform(), walk, rays[worker],
+                               scratch[worker]);
       }
       const glm::vec3 mean = sum / static_cast<float>(samples);
       for (int c = 0; c < 3; ++c) frame.image.at(x, y, c) = mean[c];

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/acquire/volume_radiance.h"
+#include "core/fabric/yarn_volume.h"
 #include "core/methods/fabric_method.h"
 #include "core/spec/defaults.h"
 #include "core/util/error.h"
@@ -52,6 +54,7 @@ std::string CanonicalFabricJson(const v1::FabricSpec& fabric, const v1::Precompu
     keyed.clear_transmission();
   }
   canonical["asset_format_version"] = method.asset_format_version();
+  if (HasYarnVolume(canonical_fabric)) canonical["volume_light_model"] = kVolumeLightModelVersion;
   canonical["fabric"] = FullJson(canonical_fabric);
   canonical["precompute"] = FullJson(keyed);
   // A method keyed without its method field (svbrdf, whose keys predate methods).

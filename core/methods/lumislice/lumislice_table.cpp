@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "core/acquire/fibre_walk.h"
 #include "core/fabric/yarn_material.h"
 #include "core/fabric/yarn_volume.h"
 #include "core/util/error.h"
@@ -20,6 +21,17 @@ constexpr int kChordSteps = 256;
 constexpr float kPi = std::numbers::pi_v<float>;
 // March steps per radius of the thinnest ply at least, as the volume's march (yarn_volume.cpp).
 constexpr float kStepsPerPlyRadius = 6.0f;
+
+// The twisted yarn's fibre at section point p (yarn radii): the fibre at offset d from the
+// centre line runs along T + k·(T × d).
+glm::vec3 SectionFibre(const YarnSection& section, glm::vec2 p) {
+  return glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
+}
+
+glm::vec2 Rotate(glm::vec2 p, float angle) {
+  const float c = std::cos(angle), s = std::sin(angle);
+  return {c * p.x - s * p.y, s * p.x + c * p.y};
+}
 
 glm::vec2 VoxelCentre(const YarnSection& section, int resolution, size_t voxel) {
   const float cell = 2.0f * section.extent() / static_cast<float>(resolution);
@@ -37,6 +49,98 @@ glm::vec2 CircleInterval(glm::vec2 p, glm::vec2 d, float r) {
   if (discriminant <= 0.0f) return glm::vec2(0.0f);
   const float root = std::sqrt(discriminant);
   return {std::max((-b - root) / a, 0.0f), std::max((-b + root) / a, 0.0f)};
+}
+
+// The straight twisted yarn around a slice as a medium for fibre walks
+// (core/acquire/fibre_walk.h): yarn radii, z along the yarn, |z| ≤ the light's path.
+struct StraightYarnMedium {
+  const YarnSection& section;
+  float optical_density, max_path, h;
+
+  VolumeSample Sample(glm::vec3 q) const {
+    VolumeSample sample;
+    sample.extinction = optical_density * FibreDensity(section, glm::vec2(q), section.twist_rate * q.z);
+    sample.fibre = SectionFibre(section, glm::vec2(q));
+    return sample;
+  }
+  float ModelLength(glm::vec3 v) const { return glm::length(v); }
+  float step() const { return h; }
+  glm::vec2 Interval(glm::vec3 origin, glm::vec3 direction) const {
+    glm::vec2 span = CircleInterval(glm::vec2(origin), glm::vec2(direction), section.extent());
+    if (direction.z != 0.0f) {
+      const float a = (-max_path - origin.z) / direction.z, b = (max_path - origin.z) / direction.z;
+      span = {std::max(span.x, std::min(a, b)), std::min(span.y, std::max(a, b))};
+    }
+    return span;
+  }
+};
+
+// The finest level's T_l (eq. 5) per direction (outer) and voxel, read between voxel
+// centres and longitudes: what a walk's event in the straight yarn receives, turned back
+// to the slice (the yarn is the slice swept and turned at the twist rate). It reads the
+// optical depth −ln T, nearly linear across a voxel where T falls steeply.
+class SliceTransmittance {
+ public:
+  SliceTransmittance(const YarnSection& section, int resolution, std::vector<float> values)
+      : section_(section), resolution_(resolution), values_(std::move(values)), depth_(values_.size()) {
+    for (size_t i = 0; i < values_.size(); ++i) depth_[i] = -std::log(std::max(values_[i], kMinTransmittance));
+  }
+  float at(int direction, size_t voxel) const { return values_[direction * voxels() + voxel]; }
+  // T_l at section point p for table altitude `altitude` and longitude `longitude` (in
+  // table steps, any real).
+  float operator()(glm::vec2 p, int altitude, float longitude) const {
+    const float cell = 2.0f * section_.extent() / static_cast<float>(resolution_);
+    const glm::vec2 g = glm::clamp((p + section_.extent()) / cell - 0.5f, 0.0f, static_cast<float>(resolution_ - 1));
+    const glm::ivec2 low = glm::min(glm::ivec2(g), glm::ivec2(resolution_ - 2));
+    const glm::vec2 f = g - glm::vec2(low);
+    const float wrapped = longitude - kLumisliceLongitudes * std::floor(longitude / kLumisliceLongitudes);
+    const int first = std::min(static_cast<int>(wrapped), kLumisliceLongitudes - 1);
+    const float fl = wrapped - static_cast<float>(first);
+    float depth = 0.0f;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::ivec3 o(corner & 1, (corner >> 1) & 1, corner >> 2);
+      const int direction = (first + o.z) % kLumisliceLongitudes + kLumisliceLongitudes * altitude;
+      const size_t voxel = static_cast<size_t>(low.y + o.y) * resolution_ + low.x + o.x;
+      const float weight = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? fl : 1 - fl);
+      depth += weight * depth_[direction * voxels() + voxel];
+    }
+    return std::exp(-depth);
+  }
+
+ private:
+  static constexpr float kMinTransmittance = 1e-6f;
+  size_t voxels() const { return static_cast<size_t>(resolution_) * resolution_; }
+  const YarnSection& section_;
+  int resolution_;
+  std::vector<float> values_, depth_;
+};
+
+// I_msp of the voxel at section point p per table direction: the mean over `walks` fibre
+// walks of their events' light, each event turned back to the slice to read its T_l.
+std::vector<glm::vec3> VoxelScattering(const StraightYarnMedium& medium, const SliceTransmittance& lit,
+                                       const std::vector<glm::vec3>& lights, const YarnMaterial& material, glm::vec2 p,
+                                       int walks, size_t voxel) {
+  std::vector<glm::vec3> scattered(kLumisliceDirections, glm::vec3(0.0f));
+  if (walks <= 0) return scattered;
+  const std::vector<YarnMaterial> materials{material};
+  RandomStream random(0, RandomStream::kFibreWalk, voxel);
+  const glm::vec3 start(p, 0.0f);
+  const VolumeSample at_start = medium.Sample(start);
+  // An event at q, in the yarn turned back by the twist to the slice, lit through the slice.
+  auto visit = [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
+    const float turn = -medium.section.twist_rate * q.z;
+    const glm::vec2 slice_q = Rotate(glm::vec2(q), turn);
+    const glm::vec3 slice_fibre(Rotate(glm::vec2(at.fibre), turn), at.fibre.z);
+    const float shift = turn * kLumisliceLongitudes / (2.0f * kPi);
+    for (int d = 0; d < kLumisliceDirections; ++d) {
+      const glm::vec3 slice_l(Rotate(glm::vec2(lights[d]), turn), lights[d].z);
+      const float t = lit(slice_q, d / kLumisliceLongitudes, static_cast<float>(d % kLumisliceLongitudes) + shift);
+      scattered[d] += throughput * FibreDiffuseScattering(material, slice_fibre, slice_l) * t;
+    }
+  };
+  for (int walk = 0; walk < walks; ++walk) WalkFibres(medium, materials, start, at_start, random, visit);
+  for (glm::vec3& light : scattered) light /= static_cast<float>(walks);
+  return scattered;
 }
 
 }  // namespace
@@ -141,24 +245,43 @@ Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& materia
   finest.density = SectionDensityGrid(section, resolution);
   const size_t voxels = finest.voxel_count();
   finest.vrf.assign(static_cast<size_t>(kLumisliceDirections) * voxels, glm::vec4(0.0f));
-  const glm::vec3 diffuse = 2.0f * material.diffuse_albedo / kPi;
   const float step = LumisliceMarchStep(section, resolution);
+  // Eq. 5's T_l per direction and voxel, then the walks (each voxel's take longer).
+  constexpr double kTransmittanceShare = 0.2;
+  std::vector<float> transmittance(static_cast<size_t>(kLumisliceDirections) * voxels);
   ParallelFor(
       kLumisliceDirections, settings.threads,
       [&](size_t direction, unsigned) {
         const glm::vec3 light = LumisliceLightDirection(static_cast<int>(direction));
         for (size_t voxel = 0; voxel < voxels; ++voxel) {
-          const glm::vec2 p = VoxelCentre(section, resolution, voxel);
-          // The fibre at offset d from the centre line runs along T + k·(T × d).
-          const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
-          const float sin_l = glm::length(glm::cross(fibre, light));
-          const float transmittance =
-              LumisliceLightTransmittance(section, slice.optical_density, p, light, settings.max_light_path, step);
-          finest.vrf[direction * voxels + voxel] = glm::vec4(diffuse * sin_l * transmittance, transmittance);
+          transmittance[direction * voxels + voxel] =
+              LumisliceLightTransmittance(section, slice.optical_density, VoxelCentre(section, resolution, voxel),
+                                          light, settings.max_light_path, step);
         }
       },
       [&](size_t done) {
-        if (progress) progress(static_cast<double>(done) / kLumisliceDirections);
+        if (progress) progress(kTransmittanceShare * static_cast<double>(done) / kLumisliceDirections);
+      });
+  const SliceTransmittance lit(section, resolution, std::move(transmittance));
+  const StraightYarnMedium medium{section, slice.optical_density, settings.max_light_path, step};
+  std::vector<glm::vec3> lights(kLumisliceDirections);
+  for (int d = 0; d < kLumisliceDirections; ++d) lights[d] = LumisliceLightDirection(d);
+  ParallelFor(
+      voxels, settings.threads,
+      [&](size_t voxel, unsigned) {
+        const glm::vec2 p = VoxelCentre(section, resolution, voxel);
+        const glm::vec3 fibre = SectionFibre(section, p);
+        // An empty voxel's colour is never seen (its opacity is 0): no walks.
+        const int walks = finest.density[voxel] > 0.0f ? settings.walks : 0;
+        const std::vector<glm::vec3> scattered = VoxelScattering(medium, lit, lights, material, p, walks, voxel);
+        for (int d = 0; d < kLumisliceDirections; ++d) {
+          const float t = lit.at(d, voxel);
+          const glm::vec3 single = FibreDiffuseScattering(material, fibre, lights[d]) * t;
+          finest.vrf[d * voxels + voxel] = glm::vec4(single + scattered[d], t);
+        }
+      },
+      [&](size_t done) {
+        if (progress) progress(kTransmittanceShare + (1.0 - kTransmittanceShare) * static_cast<double>(done) / voxels);
       });
   slice.levels.push_back(std::move(finest));
   while (slice.levels.back().resolution > 1) slice.levels.push_back(HalveLumisliceLevel(slice.levels.back()));

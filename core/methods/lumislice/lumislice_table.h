@@ -3,9 +3,10 @@
 // the voxels of one cross-section of the yarn (core/fabric/yarn_section.h) with their
 // fibre density, the paper's opacity table, and per light direction their voxel
 // reflectance function, the paper's colour table. The light reaches a voxel through
-// the straight twisted yarn around it (eq. 5); the voxel reflects it with the volume's
-// fibre shading (core/acquire/volume_radiance.h), so slices composited along a yarn
-// give what the reference's march gives. Levels of detail halve the resolution and
+// the straight twisted yarn around it (eq. 5), and scattered between its fibres (I_msp,
+// fibre walks: core/acquire/fibre_walk.h); the voxel reflects it with the volume's fibre
+// shading (core/acquire/volume_radiance.h), so slices composited along a yarn give what
+// the reference's march gives. Levels of detail halve the resolution and
 // double the voxel by eq. 11 down to 1×1 (the paper samples the finest level below 8×8;
 // that measured worse, docs/lumislice.md). What is kept and dropped from the paper, and
 // the derivation: docs/lumislice.md.
@@ -38,9 +39,9 @@ struct LumisliceLevel {
   int resolution = 0;   // voxels a side
   float voxel = 0.0f;   // a voxel's side and thickness along the yarn, yarn radii
   std::vector<float> density;  // ρ per voxel: the opacity table
-  // Per direction (outer) and voxel: rgb the diffuse VRF without ρ, 2ρ_d/π·sin(t, l)·T_l;
-  // a the light's transmittance T_l to the voxel (eq. 5), what the specular lobe kept
-  // in the renderer is scaled by.
+  // Per direction (outer) and voxel: rgb the diffuse VRF without ρ, f_d(l, t)·T_l + I_msp
+  // (core/acquire/fibre_walk.h); a the light's transmittance T_l to the voxel (eq. 5),
+  // what the specular lobe kept in the renderer is scaled by.
   std::vector<glm::vec4> vrf;
 
   size_t voxel_count() const { return static_cast<size_t>(resolution) * resolution; }
@@ -69,11 +70,15 @@ struct LumisliceSettings {
   // How far (yarn radii) light runs along the straight yarn to a voxel at most: about a
   // knit loop's leg, beyond which the real yarn bends away.
   float max_light_path = 4.0f;
+  // Fibre walks per voxel that estimate the light scattered between fibres (I_msp).
+  int walks = 64;
   unsigned threads = 0;        // 0: every core
 };
 
 // The yarn's lumislice, every level, γ = kYarnOpticalDensity (the volume's). `section`
-// and `material` describe the same yarn. progress(fraction) as directions of the finest level finish.
+// and `material` describe the same yarn. I_msp comes from fibre walks through the straight
+// twisted yarn within max_light_path of the slice. progress(fraction) as the finest level's
+// voxels finish.
 Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& material, const LumisliceSettings& settings,
                          const std::function<void(double)>& progress = {});
 

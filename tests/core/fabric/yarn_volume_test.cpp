@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/acquire/fibre_walk.h"
 #include "core/acquire/volume_radiance.h"
 #include "core/fabric/fabric_tile.h"
 #include "core/spec/defaults.h"
@@ -209,14 +210,15 @@ TEST(LightTransmittance, FollowsTheMarchedTransmittanceOfAKnit) {
   }
 }
 
-TEST(FibreScattering, IsTheThickBedsLambertianAtNormalIncidenceAndFollowsTheFibre) {
+TEST(FibreScattering, ScattersTheDiffusePartWithThePhysicalAlbedoAndFollowsTheFibre) {
   YarnMaterial material;
   material.diffuse_albedo = glm::vec3(0.6f, 0.3f, 0.1f);
   material.specular_albedo = glm::vec3(0.0f);
   const glm::vec3 fibre(1, 0, 0), up(0, 0, 1);
-  // A thick bed: L = f μ_l / (μ_l + μ_v) = f / 2 at normal incidence, = ρ_d / π.
+  // Across the fibre: α / π² (fibre_walk.h), α the physical albedo.
   const glm::vec3 f = FibreScattering(material, fibre, up, up);
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c] / 2, material.diffuse_albedo[c] / kPi, 1e-6f);
+  const glm::vec3 alpha = FibreAlbedo(material.diffuse_albedo);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], alpha[c] / (kPi * kPi), 1e-6f);
   // Light along the fibre: its cross-section vanishes.
   EXPECT_NEAR(FibreScattering(material, fibre, fibre, up).r, 0.0f, 1e-6f);
   const glm::vec3 tilted = glm::normalize(glm::vec3(1, 0, 1));

@@ -1,5 +1,6 @@
 // A yarn's lumislice table (core/methods/lumislice/lumislice_table.h): light through the
-// section as eq. 5 says, the levels of detail as eq. 11 derives them.
+// section as eq. 5 says, the light scattered between fibres as walks through the twisted
+// yarn give it, the levels of detail as eq. 11 derives them.
 
 #include "core/methods/lumislice/lumislice_table.h"
 
@@ -7,6 +8,7 @@
 
 #include <cmath>
 
+#include "core/acquire/fibre_walk.h"
 #include "core/fabric/yarn_volume.h"
 #include "core/util/error.h"
 
@@ -21,11 +23,53 @@ YarnSection SectionOf(uint32_t plies, float fuzz, float twist_degrees) {
   return MakeYarnSection(yarn);
 }
 
-LumisliceSettings Settings(int resolution) {
+// Without fibre walks (I_msp 0) unless a test asks for them.
+LumisliceSettings Settings(int resolution, int walks = 0) {
   LumisliceSettings settings;
   settings.resolution = resolution;
+  settings.walks = walks;
   return settings;
 }
+
+// The straight twisted yarn in 3D, marched directly: what the table's walks turn back to
+// the slice and read from its transmittance table instead.
+struct TwistedYarn {
+  const YarnSection& section;
+  float gamma, max_path, h;
+  VolumeSample Sample(glm::vec3 q) const {
+    VolumeSample sample;
+    sample.extinction = gamma * FibreDensity(section, glm::vec2(q), section.twist_rate * q.z);
+    sample.fibre = glm::normalize(glm::vec3(-section.twist_rate * q.y, section.twist_rate * q.x, 1.0f));
+    return sample;
+  }
+  float ModelLength(glm::vec3 v) const { return glm::length(v); }
+  float step() const { return h; }
+  glm::vec2 Interval(glm::vec3 o, glm::vec3 d) const {
+    // Inside the cylinder of the section's extent and |z| ≤ max_path.
+    float enter = 0.0f, exit = 1e9f;
+    const float a = d.x * d.x + d.y * d.y, b = o.x * d.x + o.y * d.y;
+    const float c = o.x * o.x + o.y * o.y - section.extent() * section.extent();
+    if (a > 1e-12f) {
+      const float disc = b * b - a * c;
+      if (disc <= 0.0f) return {1.0f, 0.0f};
+      enter = std::max(enter, (-b - std::sqrt(disc)) / a);
+      exit = std::min(exit, (-b + std::sqrt(disc)) / a);
+    }
+    if (d.z != 0.0f) {
+      const float lo = (-max_path - o.z) / d.z, hi = (max_path - o.z) / d.z;
+      enter = std::max(enter, std::min(lo, hi));
+      exit = std::min(exit, std::max(lo, hi));
+    }
+    return {enter, exit};
+  }
+  // T from q towards l within max_path of q.
+  float Transmittance(glm::vec3 q, glm::vec3 l) const {
+    const glm::vec2 span = Interval(q, l);
+    float depth = 0.0f;
+    for (float s = span.x + 0.5f * h; s < std::min(span.y, max_path); s += h) depth += Sample(q + s * l).extinction * h;
+    return std::exp(-depth);
+  }
+};
 
 TEST(LumisliceTable, DirectionsCoverTheSphereWithBothPoles) {
   EXPECT_NEAR(glm::distance(LumisliceLightDirection(0), glm::vec3(0, 0, -1)), 0.0f, 1e-6f);
@@ -148,11 +192,49 @@ TEST(LumisliceTable, TheDiffuseVrfIsTheFibresShadingTimesTheLightsTransmittance)
   const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
   const float t = LumisliceLightTransmittance(section, slice.optical_density, p, light,
                                                 LumisliceSettings().max_light_path, LumisliceMarchStep(section, 8));
-  const glm::vec3 expected = 2.0f * material.diffuse_albedo / 3.14159265f * glm::length(glm::cross(fibre, light)) * t;
+  const glm::vec3 expected = FibreDiffuseScattering(material, fibre, light) * t;
   EXPECT_NEAR(level.at(direction, voxel).a, t, 1e-6f);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(level.at(direction, voxel)[c], expected[c], 1e-5f) << c;
   EXPECT_GT(t, 0.01f);
   EXPECT_LT(t, 0.99f);
+}
+
+TEST(LumisliceTable, LightScatteredBetweenFibresIsWhatWalksThroughTheTwistedYarnGive) {
+  const YarnSection section = SectionOf(2, 0.0f, 25.0f);
+  YarnMaterial material;
+  material.diffuse_albedo = {0.8f, 0.3f, 0.05f};
+  const Lumislice slice = BuildLumislice(section, material, Settings(16, 256));
+  const LumisliceLevel& level = slice.levels.front();
+  // Lit from +x, slightly along the yarn; a voxel on the yarn's far side, in a ply.
+  const int direction = 1 + kLumisliceLongitudes * 12;
+  const glm::vec3 light = LumisliceLightDirection(direction);
+  const float cell = 2.0f * section.extent() / 16.0f;
+  const int vx = 4, vy = 9;
+  const size_t voxel = static_cast<size_t>(vy) * 16 + vx;
+  const glm::vec2 p(-section.extent() + (vx + 0.5f) * cell, -section.extent() + (vy + 0.5f) * cell);
+  ASSERT_GT(level.density[voxel], 0.3f);
+  const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
+  const glm::vec3 single = FibreDiffuseScattering(material, fibre, light) * level.at(direction, voxel).a;
+  const glm::vec3 table = glm::vec3(level.at(direction, voxel)) - single;
+
+  const TwistedYarn yarn{section, slice.optical_density, LumisliceSettings().max_light_path,
+                         LumisliceMarchStep(section, 16)};
+  const std::vector<YarnMaterial> materials{material};
+  RandomStream random(11, RandomStream::kFibreWalk, 0);
+  glm::vec3 walked(0.0f);
+  constexpr int kWalks = 20000;
+  for (int i = 0; i < kWalks; ++i) {
+    WalkFibres(yarn, materials, glm::vec3(p, 0.0f), yarn.Sample(glm::vec3(p, 0.0f)), random,
+               [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
+                 const glm::vec3 f = FibreDiffuseScattering(material, at.fibre, light);
+                 walked += throughput * f * yarn.Transmittance(q, light);
+               });
+  }
+  walked /= static_cast<float>(kWalks);
+  // In the shadow of the yarn's near side, light yarn gets most of its light scattered.
+  EXPECT_GT(table.r, single.r);
+  EXPECT_GT(table.r / single.r, 4.0f * table.b / single.b);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(table[c], walked[c], 0.12f * walked[c] + 1e-4f) << c;
 }
 
 TEST(LumisliceTable, ResolutionMustBeAPowerOfTwoInRange) {

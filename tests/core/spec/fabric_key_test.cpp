@@ -4,6 +4,7 @@
 
 #include <functional>
 
+#include "core/acquire/volume_radiance.h"
 #include "core/spec/defaults.h"
 #include "core/spec/spec_json.h"
 
@@ -176,6 +177,17 @@ TEST(FabricKey, AssetFormatVersionIsPartOfTheCanonicalForm) {
   EXPECT_NE(CanonicalFabricJson(Fabric(R"({"knit": {}})"), {}).find("\"asset_format_version\":" +
                                                                      std::to_string(kAssetFormatVersion)),
             std::string::npos);
+}
+
+// A yarn volume's light model keys its fabrics, and only those: tube knits and weaves keep
+// their keys when the model changes.
+TEST(FabricKey, TheVolumesLightModelKeysFabricsWithAYarnVolumeOnly) {
+  const std::string model = "\"volume_light_model\":" + std::to_string(kVolumeLightModelVersion);
+  for (const char* volume : {R"({"knit": {}, "yarns": [{"plies": 2}]})", R"({"knit": {}, "yarns": [{"fuzz": 0.2}]})"}) {
+    EXPECT_NE(CanonicalFabricJson(Fabric(volume), {}).find(model), std::string::npos) << volume;
+  }
+  EXPECT_EQ(CanonicalFabricJson(Fabric(R"({"knit": {}})"), {}).find("volume_light_model"), std::string::npos);
+  EXPECT_EQ(CanonicalFabricJson(Fabric(R"({"woven": {}})"), {}).find("volume_light_model"), std::string::npos);
 }
 
 }  // namespace
