@@ -51,7 +51,7 @@ LightTransmittance::LightTransmittance(const YarnVolume& volume, glm::vec3 light
   face_ = light.z > 0.0f ? volume.z_max() : volume.z_min();
   z_min_ = volume.z_min();
   z_step_ = (volume.z_max() - volume.z_min()) / static_cast<float>(levels - 1);
-  values_.assign(column_count() * levels, 1.0f);
+  values_.assign(column_count() * levels, glm::vec2(1.0f, 0.0f));
 }
 
 void LightTransmittance::MarchColumns(const YarnVolume& volume, size_t first, size_t count) {
@@ -59,7 +59,7 @@ void LightTransmittance::MarchColumns(const YarnVolume& volume, size_t first, si
   const float length_scale = volume.ModelLength(light_) * h;
   const float cutoff = -std::log(kMinVolumeTransmittance);
   for (size_t column = first; column < std::min(first + count, column_count()); ++column) {
-    float* levels = &values_[column * size_.z];
+    glm::vec2* levels = &values_[column * size_.z];
     const glm::vec3 base(static_cast<float>(column % size_.x) / size_.x, static_cast<float>(column / size_.x) / size_.y, face_);
     // Levels in the order the column reaches them, and the optical depth as it goes.
     const int first_level = light_.z > 0.0f ? size_.z - 1 : 0, step_level = light_.z > 0.0f ? -1 : 1;
@@ -79,7 +79,7 @@ void LightTransmittance::MarchColumns(const YarnVolume& volume, size_t first, si
         if (s_level > s_end) break;
         const float t = std::clamp((s_level - (s_end - h)) / h, 0.0f, 1.0f);
         const float d = previous_depth + t * (depth - previous_depth);
-        levels[level] = d < cutoff ? std::exp(-d) : 0.0f;
+        levels[level] = d < cutoff ? glm::vec2(std::exp(-d), d) : glm::vec2(0.0f, cutoff);
         level += step_level;
       }
     }
@@ -95,14 +95,17 @@ float LightTransmittance::operator()(glm::vec3 p) const {
   const glm::ivec2 cell = glm::min(glm::ivec2(glm::floor(grid)), glm::ivec2(size_) - 1);
   const int low = std::min(static_cast<int>(level), size_.z - 2);
   const glm::vec3 f(grid - glm::vec2(cell), level - static_cast<float>(low));
-  float result = 0.0f;
+  glm::vec2 result(0.0f);
   for (int corner = 0; corner < 8; ++corner) {
     const glm::ivec3 o(corner & 1, (corner >> 1) & 1, corner >> 2);
     const size_t column = static_cast<size_t>((cell.y + o.y) % size_.y) * size_.x + (cell.x + o.x) % size_.x;
     const float w = (o.x ? f.x : 1 - f.x) * (o.y ? f.y : 1 - f.y) * (o.z ? f.z : 1 - f.z);
     result += w * values_[column * size_.z + low + o.z];
   }
-  return result;
+  // Interpolated T overestimates and e^(−interpolated τ) underestimates (e^(−τ) is convex):
+  // their geometric mean.
+  if (result.x <= 0.0f || result.y >= -std::log(kMinVolumeTransmittance)) return 0.0f;
+  return std::exp(0.5f * (std::log(result.x) - result.y));
 }
 
 }  // namespace loom

@@ -30,7 +30,7 @@ namespace loom {
 // Version of the light model in the volume (this unit and core/acquire/fibre_walk.h):
 // part of the cache key of a fabric with a yarn volume (core/spec/fabric_key.h), so that
 // changing the model invalidates the assets acquired from it, and only those.
-inline constexpr uint32_t kVolumeLightModelVersion = 2;
+inline constexpr uint32_t kVolumeLightModelVersion = 3;
 
 // f_v(l, v, t) = f_d(l, v, t) + 2 ρ_s N(p) ψ^p: the diffuse scattering of
 // core/acquire/fibre_walk.h and the Kajiya–Kay lobe (ψ as in core/acquire/kajiya_kay_brdf.h),
@@ -104,14 +104,16 @@ float VolumeTransmittance(const YarnVolume& volume, glm::vec3 origin, glm::vec3 
 // T_l over the tile for one light direction: what acquisition looks up at its view
 // rays' steps for every light instead of marching each. Columns start on the slab's face
 // towards the light, on a grid periodic in x and y, and march into the slab along −l,
-// each recording T where it crosses the grid's z levels; a point's T_l is interpolated
-// from the columns through its neighbourhood (bilinearly across, linearly in z).
-// Columns and levels are kTransmittanceNodeSteps march steps apart; tests/core/fabric/
-// yarn_volume_test.cpp bounds the difference from marching.
+// each recording T and the optical depth τ where it crosses the grid's z levels; a
+// point's T_l is the geometric mean of T and e^(−τ) interpolated from the columns through
+// its neighbourhood (bilinearly across, linearly in z): across a yarn's edge the one is
+// too bright and the other too dark (docs/lumislice.md). Columns and levels are
+// kTransmittanceNodeSteps march steps apart; tests/core/fabric/yarn_volume_test.cpp
+// bounds the difference from marching.
 inline constexpr float kTransmittanceNodeSteps = 2.0f;
 class LightTransmittance {
  public:
-  // The grid for unit tile-space direction `light` (l.z ≠ 0), every node 1 until marched.
+  // The grid for unit tile-space direction `light` (l.z ≠ 0), every node lit until marched.
   LightTransmittance(const YarnVolume& volume, glm::vec3 light);
   size_t column_count() const { return static_cast<size_t>(size_.x) * size_.y; }
   // Marches columns [first, first + count) (independent: any split and order).
@@ -124,7 +126,7 @@ class LightTransmittance {
   glm::ivec3 size_{1};   // columns across x and y, levels in z
   float face_ = 0.0f;    // z of the slab's face towards the light
   float z_min_ = 0.0f, z_step_ = 1.0f;
-  std::vector<float> values_;  // per column (x fastest, then y), its levels from z_min up
+  std::vector<glm::vec2> values_;  // (T, τ) per column (x fastest, then y), its levels from z_min up
 };
 
 }  // namespace loom

@@ -38,9 +38,9 @@ TEST(SvbrdfVsReference, KnitAtFortyFiveDegreesFarAwayHasTheReferencesMeanRadianc
 
 // A knit of plied, fuzzy yarn is a volume of fibres, lit through it and between its fibres
 // (core/acquire/fibre_walk.h) in acquisition as in the reference: far away its frame has
-// the reference's mean radiance, within a wider bound than the tube knit's: its single
-// scattering alone is brighter than the reference's, a gap not yet explained
-// (docs/lumislice.md). Acquisition without its fibre walks gives under half the reference.
+// the reference's mean radiance too. Acquisition without its fibre walks gives under half
+// the reference; with the lights' transmittance grid interpolating T alone (too bright
+// across a yarn's edge, core/acquire/volume_radiance.h), 1.12×.
 TEST(SvbrdfVsReference, AVolumetricKnitFarAwayHasTheVolumeReferencesMeanRadiance) {
   ComparisonOptions options;
   options.fabric = R"({"knit": {}, "yarns": [{"plies": 2, "fuzz": 0.3}]})";
@@ -48,7 +48,7 @@ TEST(SvbrdfVsReference, AVolumetricKnitFarAwayHasTheVolumeReferencesMeanRadiance
   const v1::SceneSpec scene = MakeComparisonScene(options);
   const double svbrdf = MeanRed(RenderSvbrdf(scene)), reference = MeanRed(RenderReference(scene));
   RecordProperty("mean_ratio", std::to_string(svbrdf / reference));
-  EXPECT_NEAR(svbrdf / reference, 1.0, 0.15) << svbrdf << " vs " << reference;
+  EXPECT_NEAR(svbrdf / reference, 1.0, 0.08) << svbrdf << " vs " << reference;
 }
 
 // Mid distance (12 tiles: ~16 px a tile). The per-pixel error is the fit's: a
