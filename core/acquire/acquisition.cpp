@@ -270,9 +270,9 @@ float AcquireVolumeRay(const TexelPass& pass, const RadianceSamples& samples, gl
       WalkFibres(TileVolumeMedium{*pass.tile.volume}, materials, step->position, step->sample, walk,
                  [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
                    const glm::vec3 weight = walked.total() / kAcquisitionWalks * throughput;
+                   const glm::vec3 albedo = FibreAlbedo(materials[at.material].diffuse_albedo);
                    for (size_t light = 0; light < pass.light_count; ++light) {
-                     const glm::vec3 f =
-                         FibreDiffuseScattering(materials[at.material], at.fibre, light_direction(light));
+                     const glm::vec3 f = FibreDiffuseScattering(albedo, at.fibre, light_direction(light));
                      scratch.sum[light] += weight * f * pass.transmittance[pass.first_light + light](q);
                    }
                  });

@@ -15,9 +15,9 @@ glm::vec3 FibreAlbedo(glm::vec3 diffuse_albedo) {
   return albedo;
 }
 
-glm::vec3 FibreDiffuseScattering(const YarnMaterial& material, glm::vec3 fibre, glm::vec3 l) {
+glm::vec3 FibreDiffuseScattering(glm::vec3 fibre_albedo, glm::vec3 fibre, glm::vec3 l) {
   const float sin_l = glm::length(glm::cross(fibre, l));
-  return FibreAlbedo(material.diffuse_albedo) * (sin_l / (glm::pi<float>() * glm::pi<float>()));
+  return fibre_albedo * (sin_l / (glm::pi<float>() * glm::pi<float>()));
 }
 
 glm::vec3 UniformSphereDirection(RandomStream& random) {

@@ -34,8 +34,9 @@ namespace loom {
 // (Christensen and Burley 2015's inversion).
 glm::vec3 FibreAlbedo(glm::vec3 diffuse_albedo);
 
-// f_d(l, ·, t) = α sin(t, l) / π² with α = FibreAlbedo(material.diffuse_albedo).
-glm::vec3 FibreDiffuseScattering(const YarnMaterial& material, glm::vec3 fibre, glm::vec3 l);
+// f_d(l, ·, t) = α sin(t, l) / π², α = FibreAlbedo(the yarn's diffuse albedo): callers
+// take α once per material, out of their loops over lights.
+glm::vec3 FibreDiffuseScattering(glm::vec3 fibre_albedo, glm::vec3 fibre, glm::vec3 l);
 
 // A direction drawn evenly over the sphere.
 glm::vec3 UniformSphereDirection(RandomStream& random);

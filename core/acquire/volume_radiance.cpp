@@ -22,7 +22,7 @@ glm::vec3 FibreScattering(const YarnMaterial& material, glm::vec3 fibre, glm::ve
   const float sin_v = std::sqrt(1.0f - cos_v * cos_v);
   const float psi = std::clamp(sin_l * sin_v - cos_l * cos_v, 0.0f, 1.0f);
   const float exponent = std::max(material.specular_exponent, 0.0f);
-  return FibreDiffuseScattering(material, fibre, l) +
+  return FibreDiffuseScattering(FibreAlbedo(material.diffuse_albedo), fibre, l) +
          2.0f * material.specular_albedo * KajiyaKayNormalisation(exponent) * std::pow(psi, exponent);
 }
 

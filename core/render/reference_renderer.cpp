@@ -464,8 +464,9 @@ class Tracer {
       const std::vector<YarnMaterial>& materials = cloth.tile.materials;
       WalkFibres(TileVolumeMedium{volume}, materials, step->position, step->sample, walk,
                  [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
+                   const glm::vec3 albedo = FibreAlbedo(materials[at.material].diffuse_albedo);
                    const glm::vec3 source =
-                       lit(q, [&](glm::vec3 l) { return FibreDiffuseScattering(materials[at.material], at.fibre, l); });
+                       lit(q, [&](glm::vec3 l) { return FibreDiffuseScattering(albedo, at.fibre, l); });
                    result.radiance += walked.total() * throughput * source;
                  });
     }

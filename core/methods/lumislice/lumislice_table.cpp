@@ -123,6 +123,7 @@ std::vector<glm::vec3> VoxelScattering(const StraightYarnMedium& medium, const S
   std::vector<glm::vec3> scattered(kLumisliceDirections, glm::vec3(0.0f));
   if (walks <= 0) return scattered;
   const std::vector<YarnMaterial> materials{material};
+  const glm::vec3 albedo = FibreAlbedo(material.diffuse_albedo);
   RandomStream random(0, RandomStream::kFibreWalk, voxel);
   const glm::vec3 start(p, 0.0f);
   const VolumeSample at_start = medium.Sample(start);
@@ -135,7 +136,7 @@ std::vector<glm::vec3> VoxelScattering(const StraightYarnMedium& medium, const S
     for (int d = 0; d < kLumisliceDirections; ++d) {
       const glm::vec3 slice_l(Rotate(glm::vec2(lights[d]), turn), lights[d].z);
       const float t = lit(slice_q, d / kLumisliceLongitudes, static_cast<float>(d % kLumisliceLongitudes) + shift);
-      scattered[d] += throughput * FibreDiffuseScattering(material, slice_fibre, slice_l) * t;
+      scattered[d] += throughput * FibreDiffuseScattering(albedo, slice_fibre, slice_l) * t;
     }
   };
   for (int walk = 0; walk < walks; ++walk) WalkFibres(medium, materials, start, at_start, random, visit);
@@ -266,6 +267,7 @@ Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& materia
   const StraightYarnMedium medium{section, slice.optical_density, settings.max_light_path, step};
   std::vector<glm::vec3> lights(kLumisliceDirections);
   for (int d = 0; d < kLumisliceDirections; ++d) lights[d] = LumisliceLightDirection(d);
+  const glm::vec3 albedo = FibreAlbedo(material.diffuse_albedo);
   ParallelFor(
       voxels, settings.threads,
       [&](size_t voxel, unsigned) {
@@ -276,7 +278,7 @@ Lumislice BuildLumislice(const YarnSection& section, const YarnMaterial& materia
         const std::vector<glm::vec3> scattered = VoxelScattering(medium, lit, lights, material, p, walks, voxel);
         for (int d = 0; d < kLumisliceDirections; ++d) {
           const float t = lit.at(d, voxel);
-          const glm::vec3 single = FibreDiffuseScattering(material, fibre, lights[d]) * t;
+          const glm::vec3 single = FibreDiffuseScattering(albedo, fibre, lights[d]) * t;
           finest.vrf[d * voxels + voxel] = glm::vec4(single + scattered[d], t);
         }
       },

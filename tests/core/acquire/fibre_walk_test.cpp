@@ -37,6 +37,7 @@ struct BedReflectance {
 BedReflectance Reflect(const YarnMaterial& material, int samples) {
   const BedMedium bed;
   const std::vector<YarnMaterial> materials{material};
+  const glm::vec3 albedo = FibreAlbedo(material.diffuse_albedo);
   const glm::vec3 up(0.0f, 0.0f, 1.0f);
   RandomStream random(7, RandomStream::kFibreWalk, 0);
   BedReflectance result;
@@ -46,11 +47,11 @@ BedReflectance Reflect(const YarnMaterial& material, int samples) {
                                   random.Uniform());
     if (!event) continue;
     const auto lit = [&](glm::vec3 q) { return std::exp(-bed.sigma * -q.z); };  // T_l straight up
-    const glm::vec3 single = FibreDiffuseScattering(material, event->sample.fibre, up) * lit(event->position);
+    const glm::vec3 single = FibreDiffuseScattering(albedo, event->sample.fibre, up) * lit(event->position);
     glm::vec3 scattered(0.0f);
     WalkFibres(bed, materials, event->position, event->sample, random,
                [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
-                 scattered += throughput * FibreDiffuseScattering(material, at.fibre, up) * lit(q);
+                 scattered += throughput * FibreDiffuseScattering(albedo, at.fibre, up) * lit(q);
                });
     result.single += single;
     result.all += single + scattered;

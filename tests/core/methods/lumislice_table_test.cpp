@@ -182,6 +182,7 @@ TEST(LumisliceTable, TheDiffuseVrfIsTheFibresShadingTimesTheLightsTransmittance)
   const YarnSection section = SectionOf(1, 0.0f, 25.0f);
   YarnMaterial material;
   material.diffuse_albedo = {0.6f, 0.3f, 0.1f};
+  const glm::vec3 albedo = FibreAlbedo(material.diffuse_albedo);
   const Lumislice slice = BuildLumislice(section, material, Settings(8));
   const LumisliceLevel& level = slice.levels.front();
   const int direction = 7 + kLumisliceLongitudes * 13;
@@ -192,7 +193,7 @@ TEST(LumisliceTable, TheDiffuseVrfIsTheFibresShadingTimesTheLightsTransmittance)
   const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
   const float t = LumisliceLightTransmittance(section, slice.optical_density, p, light,
                                                 LumisliceSettings().max_light_path, LumisliceMarchStep(section, 8));
-  const glm::vec3 expected = FibreDiffuseScattering(material, fibre, light) * t;
+  const glm::vec3 expected = FibreDiffuseScattering(albedo, fibre, light) * t;
   EXPECT_NEAR(level.at(direction, voxel).a, t, 1e-6f);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(level.at(direction, voxel)[c], expected[c], 1e-5f) << c;
   EXPECT_GT(t, 0.01f);
@@ -203,6 +204,7 @@ TEST(LumisliceTable, LightScatteredBetweenFibresIsWhatWalksThroughTheTwistedYarn
   const YarnSection section = SectionOf(2, 0.0f, 25.0f);
   YarnMaterial material;
   material.diffuse_albedo = {0.8f, 0.3f, 0.05f};
+  const glm::vec3 albedo = FibreAlbedo(material.diffuse_albedo);
   const Lumislice slice = BuildLumislice(section, material, Settings(16, 256));
   const LumisliceLevel& level = slice.levels.front();
   // Lit from +x, slightly along the yarn; a voxel on the yarn's far side, in a ply.
@@ -214,7 +216,7 @@ TEST(LumisliceTable, LightScatteredBetweenFibresIsWhatWalksThroughTheTwistedYarn
   const glm::vec2 p(-section.extent() + (vx + 0.5f) * cell, -section.extent() + (vy + 0.5f) * cell);
   ASSERT_GT(level.density[voxel], 0.3f);
   const glm::vec3 fibre = glm::normalize(glm::vec3(-section.twist_rate * p.y, section.twist_rate * p.x, 1.0f));
-  const glm::vec3 single = FibreDiffuseScattering(material, fibre, light) * level.at(direction, voxel).a;
+  const glm::vec3 single = FibreDiffuseScattering(albedo, fibre, light) * level.at(direction, voxel).a;
   const glm::vec3 table = glm::vec3(level.at(direction, voxel)) - single;
 
   const TwistedYarn yarn{section, slice.optical_density, LumisliceSettings().max_light_path,
@@ -226,7 +228,7 @@ TEST(LumisliceTable, LightScatteredBetweenFibresIsWhatWalksThroughTheTwistedYarn
   for (int i = 0; i < kWalks; ++i) {
     WalkFibres(yarn, materials, glm::vec3(p, 0.0f), yarn.Sample(glm::vec3(p, 0.0f)), random,
                [&](glm::vec3 q, const VolumeSample& at, glm::vec3 throughput) {
-                 const glm::vec3 f = FibreDiffuseScattering(material, at.fibre, light);
+                 const glm::vec3 f = FibreDiffuseScattering(albedo, at.fibre, light);
                  walked += throughput * f * yarn.Transmittance(q, light);
                });
   }
