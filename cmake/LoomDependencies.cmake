@@ -8,6 +8,8 @@ find_package(SQLite3 REQUIRED)          # the server's job queue and cache index
 find_package(spdlog REQUIRED)
 find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache keys
 find_package(CLI11 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)  # the dashboard (server/http_gateway.h)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(embree 3 REQUIRED)         # ray casting for acquisition
 find_package(TinyGLTF REQUIRED)         # glTF 2.0 mesh sequences of animations

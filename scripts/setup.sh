@@ -21,12 +21,16 @@ PACKAGES=(
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev
   nlohmann-json3-dev libssl-dev
-  libyaml-cpp-dev
+  libyaml-cpp-dev libcpp-httplib-dev
   libtinygltf-dev
   gnuplot-nox ffmpeg
   clang libclang-rt-14-dev
   python3-grpcio python3-protobuf
+  chromium
 )
+# The dashboard's front end (web/) builds with npm; a Node.js already installed
+# (e.g. NodeSource's, which bundles npm) is used as it is.
+if ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do
@@ -46,6 +50,12 @@ else
 fi
 
 if [[ "${1:-}" == "--no-build" ]]; then exit 0; fi
+
+# The dashboard: npm ci when the lockfile changed, then tsc into web/dist.
+if [[ ! -f web/node_modules/.package-lock.json || web/package-lock.json -nt web/node_modules/.package-lock.json ]]; then
+  (cd web && npm ci --no-audit --no-fund)
+fi
+(cd web && npm run --silent build)
 
 BUILD_DIR=${BUILD_DIR:-build}
 BUILD_TYPE=${BUILD_TYPE:-Release}

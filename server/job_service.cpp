@@ -325,6 +325,16 @@ grpc::Status JobService::GetServerInfo(grpc::ServerContext* context, const v1::G
     response->set_cached_fabrics(state_.cache.List().size());
     response->set_auth_required(!state_.client_token.empty());
     response->set_tls(state_.tls);
+    response->set_uptime_ms(state_.clock.NowMs() - state_.started_ms);
+  });
+}
+
+grpc::Status JobService::ListWorkers(grpc::ServerContext* context, const v1::ListWorkersRequest*,
+                                     v1::ListWorkersResponse* response) {
+  return Guard(*context, state_.client_token, "ListWorkers", [&] {
+    for (v1::WorkerInfo& info : state_.workers.List(state_.queue.options().lease_duration_ms)) {
+      *response->add_workers() = std::move(info);
+    }
   });
 }
 

@@ -10,6 +10,7 @@
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 #include "rpc/channel.h"
+#include "server/http_gateway.h"
 #include "server/job_service.h"
 #include "server/refusal_log.h"
 #include "server/worker_service.h"
@@ -26,6 +27,10 @@ void CheckOptions(const ServerOptions& options) {
   }
   if (options.client_token.empty() && !IsLoopbackAddress(options.listen)) {
     throw Error(ErrorCode::kInvalidArgument, "--listen " + options.listen +
+                                                 ": without token files the server listens on loopback only");
+  }
+  if (!options.http_listen.empty() && options.client_token.empty() && !IsLoopbackAddress(options.http_listen)) {
+    throw Error(ErrorCode::kInvalidArgument, "--http " + options.http_listen +
                                                  ": without token files the server listens on loopback only");
   }
   if (options.tls_cert_file.empty() != options.tls_key_file.empty()) {
@@ -106,13 +111,22 @@ LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
                options_.data_dir.string(), options_.client_token.empty() ? "no tokens (loopback only)" : "tokens",
                options_.tls_cert_file.empty() ? "" : ", TLS");
 
+  grpc::ChannelArguments arguments;
+  arguments.SetMaxReceiveMessageSize(rpc::kMaxMessageBytes);
+  arguments.SetMaxSendMessageSize(rpc::kMaxMessageBytes);
+  if (!options_.http_listen.empty()) {
+    http_ = std::make_unique<HttpGateway>(
+        HttpOptions{.listen = options_.http_listen,
+                    .web_root = options_.web_root,
+                    .tls_cert_file = options_.tls_cert_file,
+                    .tls_key_file = options_.tls_key_file},
+        server_->experimental().InProcessChannelWithInterceptors(arguments, rpc::TokenInterceptors("")));
+  }
+
   timer_ = std::thread([this] { TimerLoop(); });
   for (int i = 0; i < options_.local_workers; ++i) {
     worker::WorkerOptions worker_options = options_.local_worker;
     worker_options.label = "local-" + std::to_string(i);
-    grpc::ChannelArguments arguments;
-    arguments.SetMaxReceiveMessageSize(rpc::kMaxMessageBytes);
-    arguments.SetMaxSendMessageSize(rpc::kMaxMessageBytes);
     auto channel =
         server_->experimental().InProcessChannelWithInterceptors(arguments, rpc::TokenInterceptors(options_.worker_token));
     workers_.push_back(std::make_unique<worker::WorkerLoop>(std::move(channel), worker_options));
@@ -129,6 +143,8 @@ LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
 LoomServer::~LoomServer() { Shutdown(); }
 
 std::string LoomServer::address() const { return "127.0.0.1:" + std::to_string(port_); }
+
+int LoomServer::http_port() const { return http_ ? http_->port() : 0; }
 
 void LoomServer::TimerLoop() {
   // Result retention is kept to the minute: each pass reads every pinned job.
@@ -162,6 +178,7 @@ void LoomServer::Shutdown() {
   for (const auto& worker : workers_) worker->Stop();
   for (std::thread& thread : worker_threads_) thread.join();
   store_->queue.Shutdown();
+  if (http_) http_->Stop();
   server_->Shutdown(std::chrono::system_clock::now() + 5s);
   wake_.notify_all();
   timer_.join();

@@ -8,8 +8,8 @@
 // the listening address (wildcard, TLS name).
 //
 // Shutdown order: stop taking jobs (health "draining"), stop the local workers
-// (renders finish, precomputes are handed back), wake long polls, stop the gRPC
-// server, then the timer. Jobs still leased by remote workers stay leased in the
+// (renders finish, precomputes are handed back), wake long polls, stop the
+// dashboard, the gRPC server, then the timer. Jobs still leased by remote workers stay leased in the
 // queue; the next start requeues them (server/store/job_queue.h).
 
 #include <condition_variable>
@@ -28,6 +28,8 @@ class Server;
 }
 
 namespace loom::server {
+
+class HttpGateway;
 
 struct ServerOptions {
   std::filesystem::path data_dir;
@@ -50,6 +52,10 @@ struct ServerOptions {
   std::string client_token, worker_token;
   // PEM files; both or neither.
   std::string tls_cert_file, tls_key_file;
+  // The dashboard (server/http_gateway.h) on host:port (port 0 picks one; the same
+  // loopback rule as `listen` without tokens), HTTPS with the TLS files; "" none.
+  std::string http_listen;
+  std::filesystem::path web_root;  // the built dashboard (web/dist)
   worker::WorkerOptions local_worker;
 };
 
@@ -66,6 +72,8 @@ class LoomServer {
   // The bound port (the chosen one for port 0) and a loopback address to reach it.
   int port() const { return port_; }
   std::string address() const;
+  // The dashboard's bound port, 0 without one.
+  int http_port() const;
 
   // Graceful stop (see above); idempotent.
   void Shutdown();
@@ -78,6 +86,7 @@ class LoomServer {
   std::unique_ptr<Store> store_;
   std::unique_ptr<grpc::Server> server_;
   int port_ = 0;
+  std::unique_ptr<HttpGateway> http_;
   std::vector<std::unique_ptr<worker::WorkerLoop>> workers_;
   std::vector<std::thread> worker_threads_;
   std::thread timer_;

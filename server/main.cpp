@@ -74,6 +74,11 @@ int Main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain: serve TLS")->check(CLI::ExistingFile);
   app.add_option("--tls-key", options.tls_key_file, "PEM private key of --tls-cert")->check(CLI::ExistingFile);
+  app.add_option("--http", options.http_listen,
+                 "Serve the web dashboard on this address (host:port; port 0 picks one), behind the client token, "
+                 "over HTTPS with --tls-cert (docs/dashboard.md)");
+  options.web_root = LOOM_WEB_ROOT;
+  app.add_option("--web-root", options.web_root, "The built dashboard's files (web/dist)")->capture_default_str();
   app.add_flag("--software", software, "Local workers use Mesa's software device (llvmpipe) even with a GPU");
   app.add_option("--gl-device", options.local_worker.gl.device_index,
                  "EGL device index for the local workers' GL context (as loom-worker --probe reports it); default: "

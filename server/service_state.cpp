@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <random>
 #include <sstream>
@@ -18,8 +19,13 @@ std::string WorkerRegistry::Register(const v1::WorkerCapabilities& capabilities)
   std::random_device random;
   std::ostringstream id;
   id << "w-" << std::hex << std::setfill('0') << std::setw(8) << random() << std::setw(8) << random();
+  v1::WorkerInfo info;
+  info.set_worker_id(id.str());
+  *info.mutable_capabilities() = capabilities;
+  info.set_registered_ms(clock_.NowMs());
+  info.set_last_seen_ms(info.registered_ms());
   std::lock_guard lock(mu_);
-  workers_[id.str()] = capabilities;
+  workers_[id.str()] = std::move(info);
   spdlog::info("worker {} registered: {} | {}, {} cores, {:.1f} GiB ({})", id.str(), capabilities.gl_vendor(),
                capabilities.gl_renderer(), capabilities.cores(),
                static_cast<double>(capabilities.memory_bytes()) / (1 << 30), capabilities.hostname());
@@ -36,10 +42,52 @@ size_t WorkerRegistry::size() const {
   return workers_.size();
 }
 
+void WorkerRegistry::Seen(const std::string& worker_id, const std::string& job_id) {
+  const int64_t now = clock_.NowMs();
+  std::lock_guard lock(mu_);
+  const auto found = workers_.find(worker_id);
+  if (found == workers_.end()) return;
+  found->second.set_last_seen_ms(now);
+  found->second.set_current_job_id(job_id);
+}
+
+void WorkerRegistry::Ended(const std::string& worker_id, bool succeeded) {
+  const int64_t now = clock_.NowMs();
+  std::lock_guard lock(mu_);
+  const auto found = workers_.find(worker_id);
+  if (found == workers_.end()) return;
+  v1::WorkerInfo& info = found->second;
+  info.set_last_seen_ms(now);
+  info.clear_current_job_id();
+  if (succeeded) {
+    info.set_jobs_succeeded(info.jobs_succeeded() + 1);
+  } else {
+    info.set_jobs_failed(info.jobs_failed() + 1);
+  }
+}
+
+std::vector<v1::WorkerInfo> WorkerRegistry::List(int64_t live_ms) const {
+  const int64_t now = clock_.NowMs();
+  std::vector<v1::WorkerInfo> list;
+  {
+    std::lock_guard lock(mu_);
+    for (const auto& [id, info] : workers_) list.push_back(info);
+  }
+  for (v1::WorkerInfo& info : list) {
+    info.set_state(now - info.last_seen_ms() > live_ms ? "lost" : info.current_job_id().empty() ? "idle" : "busy");
+  }
+  std::sort(list.begin(), list.end(), [](const v1::WorkerInfo& a, const v1::WorkerInfo& b) {
+    if (a.registered_ms() != b.registered_ms()) return a.registered_ms() > b.registered_ms();
+    return a.worker_id() < b.worker_id();
+  });
+  return list;
+}
+
 ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
                            std::string client_token, std::string worker_token, bool tls, int parse_slots)
     : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
-      worker_token(std::move(worker_token)), tls(tls), parse_slots(parse_slots) {
+      worker_token(std::move(worker_token)), tls(tls), started_ms(clock.NowMs()), workers(clock),
+      parse_slots(parse_slots) {
   queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
     if (kind == v1::JOB_KIND_RENDER || kind == v1::JOB_KIND_ANIMATE) artifacts.UnpinAll(JobPinOwner(id));
   });

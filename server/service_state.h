@@ -19,17 +19,26 @@
 namespace loom::server {
 
 // Workers that registered since the server started (in memory: a worker registers
-// again after a restart, see worker/worker_loop.h).
+// again after a restart, see worker/worker_loop.h), with what the dashboard shows of
+// them: the lease each holds, when each was last heard from, the jobs each ended.
 class WorkerRegistry {
  public:
+  explicit WorkerRegistry(const Clock& clock) : clock_(clock) {}
   std::string Register(const v1::WorkerCapabilities& capabilities);
   // Whether `worker_id` registered with this process.
   bool Known(const std::string& worker_id) const;
   size_t size() const;
+  // `worker_id` called now, holding the lease of `job_id` ("": none). Unknown ids are ignored.
+  void Seen(const std::string& worker_id, const std::string& job_id);
+  // `worker_id`'s lease ended: the job succeeded, or the attempt failed.
+  void Ended(const std::string& worker_id, bool succeeded);
+  // Most recently registered first; a worker not heard from for `live_ms` is "lost".
+  std::vector<v1::WorkerInfo> List(int64_t live_ms) const;
 
  private:
+  const Clock& clock_;
   mutable std::mutex mu_;
-  std::map<std::string, v1::WorkerCapabilities> workers_;
+  std::map<std::string, v1::WorkerInfo> workers_;
 };
 
 struct ServiceState {
@@ -46,6 +55,7 @@ struct ServiceState {
   std::string client_token;
   std::string worker_token;
   bool tls;
+  int64_t started_ms;
   WorkerRegistry workers;
   // A render's SubmitJob parses its meshes in one of these…
   ParseSlots parse_slots;

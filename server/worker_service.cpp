@@ -70,6 +70,7 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
     // Waits in slices so that a worker that hung up is not handed a job it will
     // never hear of.
     while (!context->IsCancelled() && !state_.draining) {
+      state_.workers.Seen(request->worker_id(), "");
       const auto slice = std::min(deadline, std::chrono::steady_clock::now() + 1s);
       std::optional<JobLease> lease = state_.queue.LeaseWait(request->worker_id(), slice);
       if (lease && context->IsCancelled()) {
@@ -85,6 +86,7 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
       if (lease) {
         spdlog::info("job {}: leased by {} (attempt {})", lease->job.id(), request->worker_id(),
                      lease->job.attempts());
+        state_.workers.Seen(request->worker_id(), lease->job.id());
         *response->mutable_job() = std::move(lease->job);
         response->set_fencing_token(lease->token);
         response->set_lease_deadline_ms(lease->deadline_ms);
@@ -105,6 +107,7 @@ grpc::Status WorkerService::Heartbeat(grpc::ServerContext* context, const v1::He
       case HeartbeatStatus::kCancelRequested: response->set_action(v1::HeartbeatResponse::ACTION_CANCEL); break;
       case HeartbeatStatus::kStaleToken: response->set_action(v1::HeartbeatResponse::ACTION_LEASE_LOST); return;
     }
+    state_.workers.Seen(request->worker_id(), request->job_id());
     AppendLog(state_.queue, request->job_id(), request->log_lines());
     response->set_lease_deadline_ms(state_.clock.NowMs() + state_.queue.options().lease_duration_ms);
   });
@@ -168,6 +171,7 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
       if (keep_results) state_.artifacts.UnpinAll(JobResultPinOwner(id));
       throw;
     }
+    state_.workers.Ended(request->worker_id(), ended.state() == v1::JOB_STATE_SUCCEEDED);
     spdlog::info("job {}: {} by {}", id, v1::JobState_Name(ended.state()), request->worker_id());
     if (job.kind() == v1::JOB_KIND_PRECOMPUTE) state_.cache.Evict();
   });
@@ -184,6 +188,11 @@ grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::Fail
         request->kind() == v1::FailJobRequest::KIND_HANDED_BACK
             ? state_.queue.HandBack(request->job_id(), request->fencing_token(), request->error())
             : state_.queue.Fail(request->job_id(), request->fencing_token(), request->error(), failure);
+    if (request->kind() == v1::FailJobRequest::KIND_HANDED_BACK) {
+      state_.workers.Seen(request->worker_id(), "");
+    } else {
+      state_.workers.Ended(request->worker_id(), false);
+    }
     spdlog::info("job {}: attempt failed on {} ({}): {}", ended.id(), request->worker_id(),
                  v1::JobState_Name(ended.state()), request->error());
   });
