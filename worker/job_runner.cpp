@@ -11,6 +11,7 @@
 #include "core/animate/cloth_sequence_io.h"
 #include "core/image/image.h"
 #include "core/methods/fabric_method.h"
+#include "core/render/fabric_preview.h"
 #include "core/render/reference_renderer.h"
 #include "core/spec/defaults.h"
 #include "core/spec/validate.h"
@@ -97,6 +98,8 @@ std::vector<NamedFile> JobRunner::Precompute(const v1::PrecomputeJob& job, const
   const std::unique_ptr<FabricAsset> asset = PrecomputeAsset(job.fabric(), job.settings(), progress);
   const StepDirectory directory(NewScratchPath("asset"));
   asset->Write(job.settings(), fabric_key, directory.path());
+  WriteImage(RenderFabricPreview(*renderer_, job.fabric(), job.settings(), *asset),
+             directory.path() / kFabricPreviewFile);
   return ReadDirectory(directory.path());
 }
 

@@ -118,11 +118,11 @@ TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
 
   const v1::Job done = WaitUntilEnded(client, submitted.job().id());
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
-  EXPECT_EQ(done.result_artifacts_size(), 3);
+  EXPECT_EQ(done.result_artifacts_size(), 4);
   const v1::GetFabricResponse fabric = client.GetFabric(done.fabric_key());
   std::set<std::string> names;
   for (const v1::ArtifactRef& file : fabric.fabric().files()) names.insert(file.name());
-  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
+  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr", "preview.png"}));
   EXPECT_THAT(fabric.manifest_json(), HasSubstr(done.fabric_key()));
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
@@ -706,7 +706,7 @@ TEST_F(ServiceTest, ACorruptCachedFabricIsDetectedAndRecomputed) {
   ASSERT_EQ(render.dependencies_size(), 1);
   EXPECT_NE(render.dependencies(0).id(), first.id());
   EXPECT_EQ(WaitUntilEnded(client, render.job().id()).state(), v1::JOB_STATE_SUCCEEDED);
-  EXPECT_EQ(client.GetFabric(first.fabric_key()).fabric().files_size(), 3);
+  EXPECT_EQ(client.GetFabric(first.fabric_key()).fabric().files_size(), 4);
 }
 
 }  // namespace

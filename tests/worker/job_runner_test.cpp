@@ -5,9 +5,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <set>
 
 #include "core/image/image.h"
+#include "core/render/fabric_preview.h"
 #include "core/spec/defaults.h"
 #include "core/spec/fabric_key.h"
 #include "core/util/error.h"
@@ -42,8 +44,28 @@ TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
       runner.Precompute(TinyPrecompute(), key, [&](double fraction, std::string_view) { last_fraction = fraction; });
   std::set<std::string> names;
   for (const NamedFile& file : files) names.insert(file.name);
-  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr"}));
+  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr", "preview.png"}));
   EXPECT_DOUBLE_EQ(last_fraction, 1.0);
+
+  // The preview: the fabric's sphere, lit, over about half the picture.
+  const auto preview = std::find_if(files.begin(), files.end(), [](const NamedFile& f) { return f.name == "preview.png"; });
+  const Image picture = Decoded(*preview);
+  ASSERT_EQ(picture.width, kFabricPreviewPixels);
+  ASSERT_EQ(picture.height, kFabricPreviewPixels);
+  const v1::Rgb background = WithDefaults(FabricPreviewScene(server::KnitFabric(), server::TinySettings())).background();
+  int covered = 0;
+  double sum = 0.0;
+  for (int y = 0; y < picture.height; ++y) {
+    for (int x = 0; x < picture.width; ++x) {
+      if (std::abs(picture.at(x, y, 0) - background.r()) < 1e-3f) continue;
+      ++covered;
+      sum += picture.at(x, y, 0);
+    }
+  }
+  const double coverage = static_cast<double>(covered) / (picture.width * picture.height);
+  EXPECT_GT(coverage, 0.35);
+  EXPECT_LT(coverage, 0.75);
+  EXPECT_GT(sum / covered, 0.05);
 
   const std::unique_ptr<FabricAsset> asset = runner.ReadAsset(files);
   v1::RenderJob render;

@@ -1,4 +1,5 @@
-// A fabric's page: its manifest's settings, the fit's figures per level and its files.
+// A fabric's page: its preview on a sphere (core/render/fabric_preview.h), its
+// manifest's settings, the fit's figures per level and its files.
 import { artifactUrl, call, type CachedFabric } from "./api.js";
 import { h, replaceChildren } from "./dom.js";
 import { bytes } from "./format.js";
@@ -38,8 +39,16 @@ export const fabricPage: PageView = ({ root, argument: key, onError }) => {
       size: bytes(entry?.totalBytes),
       pinned: entry?.pinned ?? false,
     };
+    const preview = entry?.files.find((file) => file.name === "preview.png");
     root.append(
-      keyValueTable("summary", summary),
+      h(
+        "div",
+        { class: "fabric-head" },
+        preview
+          ? h("img", { id: "preview", src: artifactUrl(preview.sha256), alt: "the fabric on a sphere" })
+          : h("p", {}, "No preview (made by workers since the dashboard came)."),
+        keyValueTable("summary", summary),
+      ),
       h("h2", {}, "Settings"),
       keyValueTable("settings", manifest.settings ?? {}),
       h("h2", {}, "Fit per level"),

@@ -152,6 +152,8 @@ test("the worker, the cache and the chart show", async ({ page }) => {
 
   await fabric.locator("a").first().click();
   await expect(page.locator("#settings")).toContainText("spatial_resolution");
+  const preview = page.locator("img#preview");
+  await expect.poll(() => preview.evaluate((img: HTMLImageElement) => img.complete && img.naturalWidth)).toBe(256);
   await expect(page.locator("#levels tbody tr").first()).toBeVisible();
   await screenshot(page, "fabric");
 

@@ -75,6 +75,10 @@ export class LoomService {
     this.httpPort = Number(http[1]);
   }
 
+  get serverPid(): number {
+    return this.server?.pid ?? 0;
+  }
+
   get url(): string {
     return `http://127.0.0.1:${this.httpPort}`;
   }
