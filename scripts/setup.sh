@@ -2,8 +2,9 @@
 # Installs Loom's Debian 12 build and run dependencies (idempotent: only missing
 # packages are installed) and builds Loom into ./build (Release by default).
 #
-#   scripts/setup.sh            install what is missing, configure, build
-#   scripts/setup.sh --no-build install only
+#   scripts/setup.sh                install what is missing, configure, build
+#   scripts/setup.sh --no-build     install only
+#   scripts/setup.sh --with-browser also Chromium, for the dashboard's browser tests
 #
 # Environment: BUILD_DIR (default build), BUILD_TYPE (default Release),
 #              JOBS (default: number of cores).
@@ -26,8 +27,15 @@ PACKAGES=(
   gnuplot-nox ffmpeg
   clang libclang-rt-14-dev
   python3-grpcio python3-protobuf
-  chromium
 )
+NO_BUILD=0
+for argument in "$@"; do
+  case "$argument" in
+    --no-build) NO_BUILD=1 ;;
+    --with-browser) PACKAGES+=(chromium) ;;
+    *) echo "setup.sh: unknown argument $argument" >&2; exit 2 ;;
+  esac
+done
 # The dashboard's front end (web/) builds with npm; a Node.js already installed
 # (e.g. NodeSource's, which bundles npm) is used as it is.
 if ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
@@ -49,7 +57,7 @@ else
   echo "loom setup: all ${#PACKAGES[@]} packages present"
 fi
 
-if [[ "${1:-}" == "--no-build" ]]; then exit 0; fi
+if ((NO_BUILD)); then exit 0; fi
 
 # The dashboard: npm ci when the lockfile changed, then tsc into web/dist.
 if [[ ! -f web/node_modules/.package-lock.json || web/package-lock.json -nt web/node_modules/.package-lock.json ]]; then

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 #include "binary_options.h"
 #include "container_checks.h"
@@ -61,16 +62,19 @@ TEST_F(ComposeTest, EveryServiceMatchesTheCode) {
   }
 }
 
-TEST_F(ComposeTest, PublishedPortsAreTheServersPort) {
+TEST_F(ComposeTest, PublishedPortsAreTheServersPortAndItsDashboards) {
   const int port = DefaultServerPort();
+  const std::optional<std::string> http = OptionValue(Strings(compose_["services"]["loom-server"]["command"]), "--http");
+  ASSERT_TRUE(http);
+  const std::set<int> served = {port, SplitAddress(*http).port};
   int published = 0;
   for (const auto& service : compose_["services"]) {
     for (const std::string& mapping : Strings(service.second["ports"])) {
       ++published;
-      EXPECT_EQ(SplitAddress(mapping).port, port) << service.first.as<std::string>() << ": " << mapping;
+      EXPECT_TRUE(served.contains(SplitAddress(mapping).port)) << service.first.as<std::string>() << ": " << mapping;
     }
   }
-  EXPECT_EQ(published, 1);
+  EXPECT_EQ(published, 2);
 }
 
 TEST_F(ComposeTest, SecretsUsedAreDefinedAndMounted) {

@@ -111,7 +111,7 @@ TEST(Dockerfile, BuildsTheServerAndWorkerImages) {
   }
 }
 
-TEST(Dockerfile, BuildStageRunsSetupAndBuildsEveryCopiedBinary) {
+TEST(Dockerfile, BuildStageRunsSetupAndBuildsEveryCopiedBinaryAndTheDashboard) {
   const DockerStage* build = LoomDockerfile().Stage("build");
   ASSERT_NE(build, nullptr);
   std::string runs;
@@ -123,6 +123,10 @@ TEST(Dockerfile, BuildStageRunsSetupAndBuildsEveryCopiedBinary) {
     for (const DockerCopy& copy : image.copies) {
       if (copy.from != "build") continue;
       for (const std::string& source : copy.sources) {
+        if (source == "/out/web") {  // the dashboard's files
+          EXPECT_NE(runs.find("npm run --silent build) && cp -r web/dist /out/web"), std::string::npos) << runs;
+          continue;
+        }
         const std::string binary = std::filesystem::path(source).filename();
         EXPECT_TRUE(IsLoomBinary(binary)) << title << " copies " << source;
         EXPECT_NE(runs.find(" " + binary + " "), std::string::npos) << "the build stage does not build " << binary;
@@ -199,7 +203,8 @@ TEST(Dockerfile, EntryPointsTakeTheirDefaultArgumentsAndTheServerExposesItsPort)
     EXPECT_TRUE(options.Problems(image.cmd).empty()) << title << ": " << options.Problems(image.cmd).front();
   }
   const DockerImage& server = LoomImages().at("loom-server");
-  EXPECT_EQ(server.exposed_ports, std::vector<int>{port});
+  const int dashboard = SplitAddress(OptionValue(server.cmd, "--http").value_or("")).port;
+  EXPECT_EQ(server.exposed_ports, (std::vector<int>{port, dashboard}));
   EXPECT_EQ(SplitAddress(OptionValue(server.cmd, "--listen").value_or("")).port, port);
   const DockerImage& worker = LoomImages().at("loom-worker");
   EXPECT_EQ(SplitAddress(OptionValue(worker.cmd, "--server").value_or("")).port, port);
