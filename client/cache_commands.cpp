@@ -1,4 +1,4 @@
-// loom cache list|show|get|rm|pin, loom server-info
+// loom cache list|show|get|rm|pin, loom server-info, loom workers
 
 #include <cstdio>
 
@@ -107,6 +107,24 @@ std::vector<ClientCommand> AddCacheCommands(CLI::App& app, ClientFlags& flags) {
                             static_cast<unsigned long long>(info.registered_workers()),
                             static_cast<unsigned long long>(info.cached_fabrics()),
                             info.auth_required() ? "tokens" : "none (loopback only)", info.tls() ? "on" : "off");
+                        return 0;
+                      }});
+
+  auto* workers = app.add_subcommand("workers", "The workers the server knows: state, job, GL renderer, jobs done");
+  commands.push_back({workers, [&flags] {
+                        const v1::ListWorkersResponse list = flags.Connect().ListWorkers();
+                        if (flags.json) {
+                          PrintJson(list);
+                          return 0;
+                        }
+                        for (const v1::WorkerInfo& worker : list.workers()) {
+                          std::printf("%s  %-5s %-10s %u done, %u failed  %s | %s\n", worker.worker_id().c_str(),
+                                      worker.state().c_str(),
+                                      worker.current_job_id().empty() ? "-" : worker.current_job_id().c_str(),
+                                      worker.jobs_succeeded(), worker.jobs_failed(),
+                                      worker.capabilities().hostname().c_str(),
+                                      worker.capabilities().gl_renderer().c_str());
+                        }
                         return 0;
                       }});
   return commands;

@@ -186,6 +186,11 @@ int JobClient::UploadMeshRefs(const std::vector<v1::MeshRef*>& meshes, const std
 
 std::string JobClient::Download(const std::string& sha256) { return rpc::DownloadArtifact(*stub_, sha256); }
 
+v1::ListWorkersResponse JobClient::ListWorkers() {
+  return Call<v1::ListWorkersRequest, v1::ListWorkersResponse>(*stub_, &v1::LoomService::Stub::ListWorkers, {},
+                                                                "ListWorkers");
+}
+
 v1::ServerInfo JobClient::ServerInfo() {
   return Call<v1::GetServerInfoRequest, v1::ServerInfo>(*stub_, &v1::LoomService::Stub::GetServerInfo, {},
                                                         "GetServerInfo");

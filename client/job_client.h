@@ -50,6 +50,7 @@ class JobClient {
   std::string Download(const std::string& sha256);
 
   v1::ServerInfo ServerInfo();
+  v1::ListWorkersResponse ListWorkers();
   // Waits until the channel connects (a server starting up), at most `timeout`;
   // Error(kUnavailable) if it does not.
   void WaitForServer(std::chrono::milliseconds timeout);

@@ -44,6 +44,21 @@ class LoomCliTest : public ServiceTest {
   }
 };
 
+TEST_F(LoomCliTest, WorkersListsTheWorkerThatRanAJob) {
+  StartServer();
+  const std::string id = SubmitPrecompute();
+  ASSERT_EQ(Loom("jobs watch " + id).exit_code, 0);
+  const CliRun run = Loom("--json workers");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const nlohmann::json workers = nlohmann::json::parse(run.output)["workers"];
+  ASSERT_EQ(workers.size(), 1u) << run.output;
+  EXPECT_EQ(workers[0]["jobs_succeeded"], 1);
+  EXPECT_EQ(workers[0]["state"], "idle");
+  EXPECT_EQ(workers[0].value("current_job_id", ""), "");
+  const CliRun table = Loom("workers");
+  EXPECT_NE(table.output.find(" 1 done, 0 failed"), std::string::npos) << table.output;
+}
+
 TEST_F(LoomCliTest, UnreachableServerIsExitCode4) {
   ServerOptions options;
   options.local_workers = 0;
@@ -222,6 +237,7 @@ TEST_F(LoomCliTest, ATokenFileAuthenticatesAndSpecChecksNameTheFile) {
   EXPECT_EQ(Loom("server-info").exit_code, 5);
   const CliRun run = Loom("--token-file " + token.string() + " server-info");
   EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(Loom("workers").exit_code, 5);
   const auto bad = Write("bad.json", R"({"knit": {"wales": 99}})");
   const CliRun check = Loom("spec check fabric " + bad.string());
   EXPECT_EQ(check.exit_code, 2) << check.output;
