@@ -27,6 +27,10 @@ constexpr char kTokenCookie[] = "loom_token";
 constexpr auto kCallTimeout = std::chrono::seconds(30);
 // Request bodies are small JSON messages (a list of job ids at most).
 constexpr size_t kMaxBodyBytes = 1 << 20;
+// Browsers keep a few connections open per page, each holding a thread while it
+// idles: threads enough for tens of pages, idle connections closed soon.
+constexpr size_t kThreads = 64;
+constexpr time_t kKeepAliveSeconds = 2;
 
 template <typename Request, typename Response>
 Call Unary(grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*)) {
@@ -246,6 +250,8 @@ HttpGateway::HttpGateway(HttpOptions options, std::shared_ptr<grpc::Channel> cha
                                                  options.tls_key_file + ": not a PEM certificate and its key");
   }
   server.set_payload_max_length(kMaxBodyBytes);
+  server.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
+  server.set_keep_alive_timeout(kKeepAliveSeconds);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
                               {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:"}});

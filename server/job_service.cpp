@@ -106,10 +106,20 @@ grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJo
       }
       filter.kinds.push_back(static_cast<v1::JobKind>(kind));
     }
+    // Read before the list: a change while listing makes the next poll list again.
+    const std::string version = std::to_string(state_.started_ms) + "." + std::to_string(state_.queue.Version());
+    response->set_version(version);
+    if (!request->unless_version().empty() && request->unless_version() == version) {
+      response->set_unchanged(true);
+      return;
+    }
     // The queue takes at most 1000 a page (the proto's cap); a larger ask gets that.
     const int page_size = static_cast<int>(std::min<uint32_t>(request->page_size(), 1000));
     JobPage page = state_.queue.List(filter, page_size, request->page_token(), kMaxListReplyBytes);
-    for (v1::Job& job : page.jobs) *response->add_jobs() = std::move(job);
+    for (v1::Job& job : page.jobs) {
+      if (request->summary()) job.clear_payload();
+      *response->add_jobs() = std::move(job);
+    }
     response->set_next_page_token(page.next_page_token);
   });
 }

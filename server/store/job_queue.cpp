@@ -292,6 +292,9 @@ v1::Job JobQueue::ToJob(const Row& row) const {
     throw Error(ErrorCode::kInternal, "job " + row.id() + ": stored payload does not parse");
   }
   job.set_id(row.id());
+  job.set_name(job.has_precompute() ? job.precompute().fabric().name()
+               : job.has_render()   ? job.render().scene().name()
+                                    : job.animate().animation().name());
   job.set_kind(row.kind);
   job.set_state(row.state);
   job.set_priority(row.priority);

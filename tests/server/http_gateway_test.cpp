@@ -107,9 +107,27 @@ TEST_F(HttpGatewayTest, WithoutTheTokenNothingIsShown) {
 TEST_F(HttpGatewayTest, ItsCallsAreTheServicesOwn) {
   Start(0);
   client::JobClient client = Client(kClientToken);
-  const std::string id = client.Submit(PrecomputeRequest()).job().id();
+  v1::SubmitJobRequest named = PrecomputeRequest();
+  named.mutable_precompute()->mutable_fabric()->set_name("gateway knit");
+  const std::string id = client.Submit(named).job().id();
 
+  // A summary list leaves the specs out and keeps their names.
+  const nlohmann::json summary = Json(Call("ListJobs", R"({"summary": true})"))["jobs"][0];
+  EXPECT_EQ(summary["name"], "gateway knit");
+  EXPECT_FALSE(summary.contains("precompute"));
+  const nlohmann::json whole = Json(Call("ListJobs", "{}"))["jobs"][0];
+  EXPECT_EQ(whole["precompute"]["fabric"]["name"], "gateway knit");
+
+  // A poll sends the last list's version: nothing comes back until a job changes.
+  const std::string listed = Json(Call("ListJobs", "{}"))["version"];
+  const nlohmann::json same = Json(Call("ListJobs", R"({"unlessVersion": ")" + listed + "\"}"));
+  EXPECT_TRUE(same["unchanged"].get<bool>());
+  EXPECT_TRUE(same["jobs"].empty());
   const httplib::Result priority = Call("SetJobPriority", R"({"jobId": ")" + id + R"(", "priority": 7})");
+  const nlohmann::json changed = Json(Call("ListJobs", R"({"unlessVersion": ")" + listed + "\"}"));
+  EXPECT_FALSE(changed["unchanged"].get<bool>());
+  EXPECT_EQ(changed["jobs"][0]["priority"], 7);
+  EXPECT_NE(changed["version"], listed);
   ASSERT_EQ(priority->status, 200) << priority->body;
   EXPECT_EQ(Json(priority)["priority"], 7);
   EXPECT_EQ(client.Get(id).priority(), 7);

@@ -24,6 +24,7 @@ export interface JobTimings {
 }
 export interface Job {
   id: string;
+  name: string;
   kind: string;
   state: string;
   priority: number;
@@ -95,21 +96,30 @@ export async function call<T>(method: string, body: object = {}): Promise<T> {
   return json as T;
 }
 
-// Every job matching the filter, page by page (1000 a page).
-export async function listJobs(states: string[], kinds: string[]): Promise<Job[]> {
-  const jobs: Job[] = [];
+export interface JobList {
+  jobs: Job[];
+  version: string;
+  unchanged: boolean;
+}
+
+// Every job matching the filter, page by page (1000 a page), without their specs;
+// none and `unchanged` when no job changed since `unlessVersion` (a previous list's).
+export async function listJobs(states: string[], kinds: string[], unlessVersion = ""): Promise<JobList> {
+  const list: JobList = { jobs: [], version: "", unchanged: false };
   let pageToken = "";
   do {
-    const page = await call<{ jobs?: Job[]; nextPageToken?: string }>("ListJobs", {
-      states,
-      kinds,
-      pageSize: 1000,
-      pageToken,
-    });
-    jobs.push(...(page.jobs ?? []));
+    const page = await call<{ jobs?: Job[]; nextPageToken?: string; version?: string; unchanged?: boolean }>(
+      "ListJobs",
+      { states, kinds, pageSize: 1000, pageToken, summary: true, unlessVersion: pageToken ? "" : unlessVersion },
+    );
+    if (!pageToken) {
+      list.version = page.version ?? "";
+      list.unchanged = page.unchanged ?? false;
+    }
+    list.jobs.push(...(page.jobs ?? []));
     pageToken = page.nextPageToken ?? "";
   } while (pageToken);
-  return jobs;
+  return list;
 }
 
 export function artifactUrl(sha256: string): string {

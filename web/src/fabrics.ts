@@ -23,9 +23,8 @@ export async function manifestOf(key: string): Promise<Manifest> {
 
 export async function fabricNames(): Promise<Map<string, string>> {
   const names = new Map<string, string>();
-  for (const job of await listJobs([], ["JOB_KIND_PRECOMPUTE"])) {
-    const name = job.precompute?.fabric?.name;
-    if (job.fabricKey && name) names.set(job.fabricKey, name);
+  for (const job of (await listJobs([], ["JOB_KIND_PRECOMPUTE"])).jobs) {
+    if (job.fabricKey && job.name) names.set(job.fabricKey, job.name);
   }
   return names;
 }

@@ -56,7 +56,7 @@ export const jobPage: PageView = ({ root, argument: id, onError }) => {
       ["finished", time(job.timings?.finishedMs)],
       ["run time", duration(job.timings?.runMs ?? 0)],
     ];
-    if (job.precompute?.fabric?.name) rows.push(["fabric name", job.precompute.fabric.name]);
+    if (job.name) rows.push(["name", job.name]);
     if (job.fabricKey) rows.push(["fabric", h("a", { href: `#/fabrics/${job.fabricKey}` }, job.fabricKey)]);
     if (job.dependsOn?.length) {
       rows.push(["depends on", h("span", {}, ...job.dependsOn.map((d) => h("a", { href: `#/jobs/${d}` }, `${d} `)))]);

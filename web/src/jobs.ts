@@ -1,6 +1,6 @@
 // The jobs page: every job, live, filtered by state and kind, with cancel, retry and
-// priority in each row. Rows are kept by job id and rebuilt only when their job
-// changed, so a thousand jobs cost one small update a second.
+// priority in each row. A poll lists the jobs only when one changed since the last
+// (ListJobs' version), and rebuilds only the rows whose job changed.
 import { listJobs, type Job, type ServerInfo, call } from "./api.js";
 import { h, replaceChildren } from "./dom.js";
 import { enumLabel, shortId, time } from "./format.js";
@@ -53,6 +53,7 @@ export const jobsPage: PageView = ({ root, onError }) => {
         {},
         ...[
           "job",
+          "name",
           "kind",
           "state",
           "priority",
@@ -70,11 +71,21 @@ export const jobsPage: PageView = ({ root, onError }) => {
   );
   replaceChildren(root, h("h1", {}, "Jobs"), h("div", { class: "filters" }, stateFilter, kindFilter), summary, table);
 
+  let version = "";
   const rows = new Map<string, { row: HTMLTableRowElement; key: string; priority: HTMLInputElement }>();
   const refresh = async () => {
     const states = stateFilter.value ? [`JOB_STATE_${stateFilter.value}`] : [];
     const kinds = kindFilter.value ? [`JOB_KIND_${kindFilter.value}`] : [];
-    const [jobs, info] = await Promise.all([listJobs(states, kinds), call<ServerInfo>("GetServerInfo")]);
+    const [list, info] = await Promise.all([listJobs(states, kinds, version), call<ServerInfo>("GetServerInfo")]);
+    if (!list.unchanged) {
+      version = list.version;
+      updateRows(list.jobs);
+    }
+    summary.textContent =
+      `${rows.size} job(s) shown · queued ${info.queuedJobs} · running ${info.runningJobs} · ` +
+      `workers ${info.registeredWorkers} · ${info.health}`;
+  };
+  const updateRows = (jobs: Job[]) => {
     const seen = new Set<string>();
     const ordered: HTMLTableRowElement[] = [];
     for (const job of jobs) {
@@ -93,6 +104,7 @@ export const jobsPage: PageView = ({ root, onError }) => {
         replaceChildren(
           entry.row,
           h("td", {}, h("a", { href: `#/jobs/${job.id}`, class: "job-link" }, shortId(job.id))),
+          h("td", { class: "name" }, job.name ?? ""),
           h("td", {}, enumLabel(job.kind, "JOB_KIND_")),
           h("td", { class: "state-cell" }, stateBadge(job.state)),
           h("td", {}, entry.priority),
@@ -115,13 +127,11 @@ export const jobsPage: PageView = ({ root, onError }) => {
     if (ordered.length !== body.children.length || ordered.some((row, i) => body.children[i] !== row)) {
       body.replaceChildren(...ordered);
     }
-    summary.textContent =
-      `${jobs.length} job(s) shown · queued ${info.queuedJobs} · running ${info.runningJobs} · ` +
-      `workers ${info.registeredWorkers} · ${info.health}`;
   };
   let stop = poll(refresh, REFRESH_MS, onError);
   const restart = () => {
     stop();
+    version = "";
     rows.clear();
     body.replaceChildren();
     stop = poll(refresh, REFRESH_MS, onError);

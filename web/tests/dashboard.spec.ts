@@ -108,7 +108,6 @@ test("queued jobs appear; priority and cancel work from the page", async ({ page
   await expect(row(page, other.id)).toBeVisible();
   await page.selectOption("#state-filter", "");
   await expect(page.locator("#jobs tbody tr")).toHaveCount(3);
-  await screenshot(page, "jobs-queued");
 });
 
 test("jobs progress and finish once a worker runs; the frame loads", async ({ page }) => {

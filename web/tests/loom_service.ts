@@ -32,6 +32,14 @@ function waitForLine(child: ChildProcess, pattern: RegExp, what: string): Promis
   });
 }
 
+// Keeps reading a child's output (the service logs a line per job): a pipe nobody
+// reads fills, and the child blocks writing to it.
+function drained(child: ChildProcess): ChildProcess {
+  child.stdout?.resume();
+  child.stderr?.resume();
+  return child;
+}
+
 function stopped(child: ChildProcess): Promise<void> {
   if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
   return new Promise((resolve) => {
@@ -53,20 +61,22 @@ export class LoomService {
   async start(): Promise<void> {
     writeFileSync(this.clientTokenFile, CLIENT_TOKEN + "\n");
     writeFileSync(this.workerTokenFile, "dashboard-worker-token\n");
-    this.server = spawn(path.join(buildDir, "server/loom-server"), [
-      "--data",
-      path.join(this.dir, "data"),
-      "--listen",
-      "127.0.0.1:0",
-      "--http",
-      "127.0.0.1:0",
-      "--local-workers",
-      "0",
-      "--client-token-file",
-      this.clientTokenFile,
-      "--worker-token-file",
-      this.workerTokenFile,
-    ]);
+    this.server = drained(
+      spawn(path.join(buildDir, "server/loom-server"), [
+        "--data",
+        path.join(this.dir, "data"),
+        "--listen",
+        "127.0.0.1:0",
+        "--http",
+        "127.0.0.1:0",
+        "--local-workers",
+        "0",
+        "--client-token-file",
+        this.clientTokenFile,
+        "--worker-token-file",
+        this.workerTokenFile,
+      ]),
+    );
     const [grpc, http] = await Promise.all([
       waitForLine(this.server, /listening on \S+ \(port (\d+)\)/, "loom-server"),
       waitForLine(this.server, /dashboard on http:\/\/127\.0\.0\.1:(\d+)\//, "loom-server"),
@@ -84,15 +94,17 @@ export class LoomService {
   }
 
   async startWorker(): Promise<void> {
-    const worker = spawn(path.join(buildDir, "worker/loom-worker"), [
-      "--server",
-      `127.0.0.1:${this.grpcPort}`,
-      "--token-file",
-      this.workerTokenFile,
-      "--software",
-      "--lease-wait",
-      "1",
-    ]);
+    const worker = drained(
+      spawn(path.join(buildDir, "worker/loom-worker"), [
+        "--server",
+        `127.0.0.1:${this.grpcPort}`,
+        "--token-file",
+        this.workerTokenFile,
+        "--software",
+        "--lease-wait",
+        "1",
+      ]),
+    );
     this.workers.push(worker);
     await waitForLine(worker, /registered as/, "loom-worker");
   }
