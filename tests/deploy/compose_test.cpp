@@ -64,7 +64,8 @@ TEST_F(ComposeTest, EveryServiceMatchesTheCode) {
 
 TEST_F(ComposeTest, PublishedPortsAreTheServersPortAndItsDashboards) {
   const int port = DefaultServerPort();
-  const std::optional<std::string> http = OptionValue(Strings(compose_["services"]["loom-server"]["command"]), "--http");
+  const std::vector<std::string> command = Strings(compose_["services"]["loom-server"]["command"]);
+  const std::optional<std::string> http = OptionValue(command, "--http");
   ASSERT_TRUE(http);
   const std::set<int> served = {port, SplitAddress(*http).port};
   int published = 0;

@@ -48,11 +48,13 @@ TEST(JobRunnerTest, PrecomputeGivesTheAssetFilesAndRenderUsesThem) {
   EXPECT_DOUBLE_EQ(last_fraction, 1.0);
 
   // The preview: the fabric's sphere, lit, over about half the picture.
-  const auto preview = std::find_if(files.begin(), files.end(), [](const NamedFile& f) { return f.name == "preview.png"; });
+  const auto preview =
+      std::find_if(files.begin(), files.end(), [](const NamedFile& f) { return f.name == kFabricPreviewFile; });
   const Image picture = Decoded(*preview);
   ASSERT_EQ(picture.width, kFabricPreviewPixels);
   ASSERT_EQ(picture.height, kFabricPreviewPixels);
-  const v1::Rgb background = WithDefaults(FabricPreviewScene(server::KnitFabric(), server::TinySettings())).background();
+  const v1::Rgb background =
+      WithDefaults(FabricPreviewScene(server::KnitFabric(), server::TinySettings())).background();
   int covered = 0;
   double sum = 0.0;
   for (int y = 0; y < picture.height; ++y) {
