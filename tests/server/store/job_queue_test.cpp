@@ -708,11 +708,12 @@ TEST_F(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
   constexpr uint64_t kCap = 100'000;
   for (int i = 0; i < 10; ++i) {
     v1::Job job = Render();
-    job.mutable_render()->mutable_scene()->set_name(std::string(30'000, 'a' + i));
+    // Not the scene's name: a job carries that twice (Job.name).
+    job.mutable_render()->mutable_scene()->add_objects()->set_name(std::string(30'000, 'a' + i));
     queue_->Submit(job);
   }
   v1::Job huge = Render();
-  huge.mutable_render()->mutable_scene()->set_name(std::string(3 * kCap, 'z'));
+  huge.mutable_render()->mutable_scene()->add_objects()->set_name(std::string(3 * kCap, 'z'));
   queue_->Submit(huge);
   std::vector<size_t> sizes;
   std::string token;
