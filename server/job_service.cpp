@@ -82,7 +82,12 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
 }
 
 grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
-  return Guard(*context, state_.client_token, "GetJob", [&] { *response = state_.queue.Get(RequireJobId(request->job_id())); });
+  return Guard(*context, state_.client_token, "GetJob", [&] {
+    *response = state_.queue.Get(RequireJobId(request->job_id()));
+    if (response->has_render()) {
+      for (const SceneFabric& fabric : RenderFabrics(response->render())) response->add_fabric_keys(fabric.key);
+    }
+  });
 }
 
 grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,

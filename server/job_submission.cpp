@@ -135,6 +135,12 @@ v1::SceneSpec WithPlannedPrecompute(const v1::SceneSpec& scene, const v1::SceneS
 
 }  // namespace
 
+std::vector<SceneFabric> RenderFabrics(const v1::RenderJob& render) {
+  const v1::SceneSpec full = WithDefaults(render.scene());
+  if (full.render().method() != v1::RENDER_METHOD_SVBRDF) return {};
+  return SceneFabrics(full);
+}
+
 std::string JobPinOwner(const std::string& job_id) { return "job:" + job_id; }
 
 std::vector<const v1::MeshRef*> UploadedMeshes(const v1::Job& job) {

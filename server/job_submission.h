@@ -25,6 +25,10 @@ namespace loom::server {
 v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& queue, ArtifactStore& artifacts,
                                 FabricCache& cache, MeshSequenceCache* sequences = nullptr);
 
+// The fabrics `render` shades with, as the worker looks them up (none for a render
+// method that uses no fitted fabric).
+std::vector<SceneFabric> RenderFabrics(const v1::RenderJob& render);
+
 // The pin owner of a render's or an animation's mesh artifacts, held until the
 // job ends.
 std::string JobPinOwner(const std::string& job_id);

@@ -4,7 +4,6 @@
 #include <chrono>
 
 #include "core/render/scene_render.h"
-#include "core/spec/defaults.h"
 #include "core/util/error.h"
 #include "server/artifact_upload.h"
 #include "server/call_guard.h"
@@ -34,9 +33,7 @@ grpc::Status WorkerService::RegisterWorker(grpc::ServerContext* context, const v
 }
 
 bool WorkerService::ResolveFabrics(const JobLease& lease, v1::LeaseJobResponse& response) {
-  const v1::SceneSpec scene = WithDefaults(lease.job.render().scene());
-  if (scene.render().method() != v1::RENDER_METHOD_SVBRDF) return true;
-  for (const SceneFabric& fabric : SceneFabrics(scene)) {
+  for (const SceneFabric& fabric : RenderFabrics(lease.job.render())) {
     const std::optional<FabricEntry> entry = state_.cache.Get(fabric.key);
     if (!entry) {
       // Evicted (or found corrupt) after its precompute succeeded: precompute it

@@ -100,6 +100,7 @@ std::vector<NamedFile> JobRunner::Precompute(const v1::PrecomputeJob& job, const
   asset->Write(job.settings(), fabric_key, directory.path());
   WriteImage(RenderFabricPreview(*renderer_, job.fabric(), job.settings(), *asset),
              directory.path() / kFabricPreviewFile);
+  WriteAssetPictures(*asset, directory.path());
   return ReadDirectory(directory.path());
 }
 

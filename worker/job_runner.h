@@ -47,8 +47,9 @@ class JobRunner {
   const std::filesystem::path& scratch_directory() const { return scratch_; }
 
   // The fabric asset of `job` (its method's, core/methods/fabric_method.h) as files, keyed
-  // `fabric_key`, with its preview picture (core/render/fabric_preview.h). `progress`
-  // is core's callback: throwing from it cancels.
+  // `fabric_key`, with its preview picture (core/render/fabric_preview.h) and its texel
+  // pictures (core/methods/asset_pictures.h). `progress` is core's callback: throwing
+  // from it cancels.
   std::vector<NamedFile> Precompute(const v1::PrecomputeJob& job, const std::string& fabric_key,
                                     const PrecomputeProgress& progress);
 

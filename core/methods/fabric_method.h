@@ -23,6 +23,7 @@
 #include "core/acquire/radiance_samples.h"
 #include "core/gl/shader_program.h"
 #include "core/methods/asset_files.h"
+#include "core/methods/asset_pictures.h"
 #include "core/methods/colour_sheets.h"
 #include "core/methods/level_texture.h"
 #include "loom/v1/precompute.pb.h"
@@ -118,6 +119,9 @@ class FabricAsset {
   // "method", "seconds" and "levels" (per level at least "level" and "resolution";
   // "relative_rmse" where the method approximates its samples).
   virtual nlohmann::json Figures() const = 0;
+  // Per level, pictures of the maps the method stores per texel
+  // (core/methods/asset_pictures.h), finest level first.
+  virtual std::vector<AssetPicture> Pictures() const = 0;
 
  private:
   // This sheet's back sheet's files, then its own.

@@ -93,6 +93,10 @@ TEST_F(ServiceTest, RenderWithoutPrecomputeSettingsGetsThePlannedPrecompute) {
   EXPECT_EQ(submitted.dependencies(0).fabric_key(), plan.fabrics[0].key);
   EXPECT_EQ(submitted.job().render().scene().objects(0).fabric().precompute().SerializeAsString(),
             planned.SerializeAsString());
+  // GetJob names the planned fabric's key (the dashboard links a render to it).
+  const v1::Job stored = client.Get(submitted.job().id());
+  ASSERT_EQ(stored.fabric_keys_size(), 1);
+  EXPECT_EQ(stored.fabric_keys(0), plan.fabrics[0].key);
 }
 
 // A lumislice render waits for no precompute: the worker builds the knit's lumislices
@@ -108,6 +112,7 @@ TEST_F(ServiceTest, ALumisliceRenderRunsWithoutAPrecompute) {
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
   EXPECT_EQ(done.result_artifacts_size(), 1);
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 0);
+  EXPECT_EQ(client.Get(done.id()).fabric_keys_size(), 0);
 }
 
 TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
@@ -118,11 +123,11 @@ TEST_F(ServiceTest, PrecomputeRunsToSucceededAndCachesTheAsset) {
 
   const v1::Job done = WaitUntilEnded(client, submitted.job().id());
   ASSERT_EQ(done.state(), v1::JOB_STATE_SUCCEEDED) << done.error();
-  EXPECT_EQ(done.result_artifacts_size(), 4);
+  EXPECT_EQ(done.result_artifacts_size(), static_cast<int>(TinyPrecomputeFiles().size()));
   const v1::GetFabricResponse fabric = client.GetFabric(done.fabric_key());
   std::set<std::string> names;
   for (const v1::ArtifactRef& file : fabric.fabric().files()) names.insert(file.name());
-  EXPECT_EQ(names, (std::set<std::string>{"lut.exr", "manifest.json", "parameters.exr", "preview.png"}));
+  EXPECT_EQ(names, TinyPrecomputeFiles());
   EXPECT_THAT(fabric.manifest_json(), HasSubstr(done.fabric_key()));
   EXPECT_EQ(client.ListFabrics().fabrics_size(), 1);
 }
@@ -706,7 +711,8 @@ TEST_F(ServiceTest, ACorruptCachedFabricIsDetectedAndRecomputed) {
   ASSERT_EQ(render.dependencies_size(), 1);
   EXPECT_NE(render.dependencies(0).id(), first.id());
   EXPECT_EQ(WaitUntilEnded(client, render.job().id()).state(), v1::JOB_STATE_SUCCEEDED);
-  EXPECT_EQ(client.GetFabric(first.fabric_key()).fabric().files_size(), 4);
+  EXPECT_EQ(client.GetFabric(first.fabric_key()).fabric().files_size(),
+            static_cast<int>(TinyPrecomputeFiles().size()));
 }
 
 }  // namespace

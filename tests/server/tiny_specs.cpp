@@ -1,5 +1,7 @@
 #include "tests/server/tiny_specs.h"
 
+#include "core/methods/asset_pictures.h"
+
 namespace loom::server {
 
 v1::PrecomputeSettings TinySettings() {
@@ -45,6 +47,14 @@ v1::SceneSpec TinyScene(uint32_t width, uint32_t height) {
   render.set_shadow_map_size(256);
   render.set_format(v1::IMAGE_FORMAT_EXR);
   return scene;
+}
+
+std::set<std::string> TinyPrecomputeFiles() {
+  std::set<std::string> files{"lut.exr", "manifest.json", "parameters.exr", "preview.png", kAssetPicturesFile};
+  for (uint32_t level = 0; level < 4; ++level) {
+    for (const char* map : {"albedo", "lobe1", "lut", "alpha"}) files.insert(AssetPictureFile(level, map));
+  }
+  return files;
 }
 
 v1::SubmitJobRequest PrecomputeRequest() {

@@ -3,6 +3,8 @@
 // enough to run in a second or two on llvmpipe, and a small scene that uses it.
 
 #include <cstdint>
+#include <set>
+#include <string>
 
 #include "loom/v1/service.pb.h"
 
@@ -17,6 +19,9 @@ v1::FabricSpec KnitFabric();
 v1::SceneSpec TinyScene(uint32_t width = 64, uint32_t height = 48);
 
 v1::SubmitJobRequest PrecomputeRequest();
+// The files a worker's precompute of TinySettings yields: the svbrdf asset's, the
+// preview, and the pictures of each of its 4 levels with their list.
+std::set<std::string> TinyPrecomputeFiles();
 v1::SubmitJobRequest RenderRequest(const v1::SceneSpec& scene);
 
 }  // namespace loom::server

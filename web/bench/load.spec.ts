@@ -63,8 +63,10 @@ test("dashboard load", async ({ browser }) => {
       open.push(page);
     }
     const busy = await serverCpu(service, seconds);
-    console.log(`server CPU: ${(idle * 100).toFixed(1)}% of a core with no page, ` +
-      `${(busy * 100).toFixed(1)}% with ${pages} pages open (${seconds} s each)`);
+    console.log(
+      `server CPU: ${(idle * 100).toFixed(1)}% of a core with no page, ` +
+        `${(busy * 100).toFixed(1)}% with ${pages} pages open (${seconds} s each)`,
+    );
 
     for (const summary of [true, false]) {
       const timing = await open[0].evaluate(async (summary) => {

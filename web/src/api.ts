@@ -36,6 +36,7 @@ export interface Job {
   error: string;
   dependsOn: string[];
   fabricKey: string;
+  fabricKeys?: string[];
   workerId: string;
   cancelRequested: boolean;
   precompute?: { fabric?: { name?: string } };

@@ -1,6 +1,7 @@
 // A fabric's page: its preview on a sphere (core/render/fabric_preview.h), its
-// manifest's settings, the fit's figures per level and its files.
-import { artifactUrl, call, type CachedFabric } from "./api.js";
+// manifest's settings, the fit's figures and pictures of its texels per level
+// (core/methods/asset_pictures.h) and its files.
+import { artifactUrl, call, type ArtifactRef, type CachedFabric } from "./api.js";
 import { h, replaceChildren } from "./dom.js";
 import { bytes } from "./format.js";
 import { manifestOf } from "./fabrics.js";
@@ -26,6 +27,58 @@ function levelsTable(levels: Record<string, unknown>[]): HTMLElement {
   );
 }
 
+// An entry of pictures.json, written by the worker beside the asset.
+interface TexelPicture {
+  file: string;
+  level: number;
+  map: string;
+  caption: string;
+}
+
+async function texelPictures(files: ArtifactRef[]): Promise<TexelPicture[]> {
+  const list = files.find((file) => file.name === "pictures.json");
+  if (!list) return [];
+  const reply = await fetch(artifactUrl(list.sha256), { credentials: "same-origin" });
+  if (!reply.ok) throw new Error(`pictures.json: HTTP ${reply.status}`);
+  return (await reply.json()) as TexelPicture[];
+}
+
+// A row per level, a column per map, each picture one pixel per texel scaled up
+// without smoothing; the captions below say what each map shows.
+function picturesTable(pictures: TexelPicture[], files: ArtifactRef[]): HTMLElement {
+  if (pictures.length === 0) return h("p", {}, "No texel pictures (made by workers since they came).");
+  const maps = [...new Set(pictures.map((p) => p.map))];
+  const levels = [...new Set(pictures.map((p) => p.level))].sort((a, b) => a - b);
+  const sha = new Map(files.map((file) => [file.name, file.sha256]));
+  const cell = (level: number, map: string) => {
+    const picture = pictures.find((p) => p.level === level && p.map === map);
+    const hash = picture && sha.get(picture.file);
+    return h(
+      "td",
+      {},
+      hash
+        ? h("img", { class: "texels", src: artifactUrl(hash), alt: `level ${level} ${map}`, title: picture.caption })
+        : "",
+    );
+  };
+  const captions = new Map(pictures.map((p) => [p.map, p.caption]));
+  return h(
+    "div",
+    { id: "texels" },
+    h(
+      "table",
+      { class: "grid narrow" },
+      h("thead", {}, h("tr", {}, h("th", {}, "level"), ...maps.map((map) => h("th", {}, map)))),
+      h(
+        "tbody",
+        {},
+        ...levels.map((level) => h("tr", {}, h("th", {}, String(level)), ...maps.map((m) => cell(level, m)))),
+      ),
+    ),
+    h("dl", { class: "details" }, ...maps.flatMap((map) => [h("dt", {}, map), h("dd", {}, captions.get(map) ?? "")])),
+  );
+}
+
 export const fabricPage: PageView = ({ root, argument: key, onError }) => {
   replaceChildren(root, h("h1", {}, "Fabric ", h("code", {}, key)));
   const load = async () => {
@@ -39,7 +92,9 @@ export const fabricPage: PageView = ({ root, argument: key, onError }) => {
       size: bytes(entry?.totalBytes),
       pinned: entry?.pinned ?? false,
     };
-    const preview = entry?.files.find((file) => file.name === "preview.png");
+    const files = entry?.files ?? [];
+    const preview = files.find((file) => file.name === "preview.png");
+    const pictures = await texelPictures(files);
     root.append(
       h(
         "div",
@@ -53,11 +108,13 @@ export const fabricPage: PageView = ({ root, argument: key, onError }) => {
       keyValueTable("settings", manifest.settings ?? {}),
       h("h2", {}, "Fit per level"),
       levelsTable(manifest.levels ?? []),
+      h("h2", {}, "Texels per level"),
+      picturesTable(pictures, files),
       h("h2", {}, "Files"),
       h(
         "ul",
         { class: "files" },
-        ...(entry?.files ?? []).map((file) =>
+        ...files.map((file) =>
           h(
             "li",
             {},

@@ -57,7 +57,11 @@ export const jobPage: PageView = ({ root, argument: id, onError }) => {
       ["run time", duration(job.timings?.runMs ?? 0)],
     ];
     if (job.name) rows.push(["name", job.name]);
-    if (job.fabricKey) rows.push(["fabric", h("a", { href: `#/fabrics/${job.fabricKey}` }, job.fabricKey)]);
+    const fabricLink = (key: string) => h("a", { class: "fabric-key", href: `#/fabrics/${key}` }, key);
+    if (job.fabricKey) rows.push(["fabric", fabricLink(job.fabricKey)]);
+    if (job.fabricKeys?.length) {
+      rows.push(["fabrics", h("span", { class: "keys" }, ...job.fabricKeys.map(fabricLink))]);
+    }
     if (job.dependsOn?.length) {
       rows.push(["depends on", h("span", {}, ...job.dependsOn.map((d) => h("a", { href: `#/jobs/${d}` }, `${d} `)))]);
     }

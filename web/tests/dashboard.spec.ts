@@ -25,14 +25,7 @@ let precompute: any, render: any, other: any;
 test.beforeAll(async () => {
   await service.start();
   // No worker yet: all three wait in the queue.
-  precompute = service.loom(
-    "fabric",
-    "precompute",
-    "--no-wait",
-    "--settings",
-    path.join(fixtures, "tiny_settings.json"),
-    path.join(fixtures, "knit.json"),
-  ).job;
+  precompute = service.submitPrecompute("tiny_settings.json");
   render = service.loom(
     "render",
     "--no-wait",
@@ -40,14 +33,7 @@ test.beforeAll(async () => {
     path.join(service.dir, "frame.png"),
     path.join(fixtures, "tiny_scene.json"),
   ).job;
-  other = service.loom(
-    "fabric",
-    "precompute",
-    "--no-wait",
-    "--settings",
-    path.join(fixtures, "wide_settings.json"),
-    path.join(fixtures, "knit.json"),
-  ).job;
+  other = service.submitPrecompute("wide_settings.json");
 });
 
 test.afterAll(async () => {
@@ -126,6 +112,7 @@ test("jobs progress and finish once a worker runs; the frame loads", async ({ pa
   await expect.poll(() => frame.evaluate((img: HTMLImageElement) => img.complete && img.naturalWidth)).toBe(96);
   expect(await frame.evaluate((img: HTMLImageElement) => img.naturalHeight)).toBe(64);
   await expect(page.locator("#log")).toContainText("leased by");
+  await expect(page.locator("a.fabric-key")).toHaveText(precompute.fabric_key);
   await screenshot(page, "job");
 });
 
@@ -154,6 +141,12 @@ test("the worker, the cache and the chart show", async ({ page }) => {
   const preview = page.locator("img#preview");
   await expect.poll(() => preview.evaluate((img: HTMLImageElement) => img.complete && img.naturalWidth)).toBe(256);
   await expect(page.locator("#levels tbody tr").first()).toBeVisible();
+  // Four levels (8², 4², 2², 1² texels), four maps each, one pixel per texel.
+  const texels = page.locator("#texels img.texels");
+  await expect(texels).toHaveCount(16);
+  const albedo = page.locator('#texels img[alt="level 0 albedo"]');
+  await expect.poll(() => albedo.evaluate((img: HTMLImageElement) => img.complete && img.naturalWidth)).toBe(8);
+  await expect(page.locator("#texels dl")).toContainText("diffuse albedo");
   await screenshot(page, "fabric");
 
   await page.click("nav >> text=Chart");

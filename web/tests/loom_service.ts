@@ -109,6 +109,13 @@ export class LoomService {
     await waitForLine(worker, /registered as/, "loom-worker");
   }
 
+  // Submits a precompute of the fixtures' knit with the settings in fixtures/`settings`,
+  // not waiting for it: its job.
+  submitPrecompute(settings: string): any {
+    const args = ["--no-wait", "--settings", path.join(fixtures, settings), path.join(fixtures, "knit.json")];
+    return this.loom("fabric", "precompute", ...args).job;
+  }
+
   // `loom --json ARGS…`: its JSON reply.
   loom(...args: string[]): any {
     const out = execFileSync(

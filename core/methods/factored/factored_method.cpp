@@ -293,6 +293,31 @@ json FactoredAsset::Figures() const {
           {"levels", levels}};
 }
 
+std::vector<AssetPicture> FactoredAsset::Pictures() const {
+  std::vector<AssetPicture> pictures;
+  const size_t views = fabric_.view_count(), lights = fabric_.light_count(), rank = fabric_.rank;
+  const size_t view = TopDirection(fabric_.view_directions), light = TopDirection(fabric_.light_directions);
+  for (uint32_t j = 0; j < fabric_.levels.size(); ++j) {
+    const FactoredLevel& level = fabric_.levels[j];
+    pictures.push_back(AmbientPicture(j, level.resolution, level.ambient, views, view));
+    if (rank > 0) {
+      pictures.push_back({j, "view_term1", "view term a_1 seen from above, smallest to largest",
+                          TexelPicture(
+                              level.resolution,
+                              [&](size_t texel) { return glm::vec3(level.view_terms[texel * rank * views + view]); },
+                              PictureScale::kRange)});
+      pictures.push_back(
+          {j, "light_term1", "light term b_1 lit from above, smallest to largest",
+           TexelPicture(
+               level.resolution,
+               [&](size_t texel) { return glm::vec3(level.light_terms[texel * rank * lights + light]); },
+               PictureScale::kRange)});
+    }
+    pictures.push_back(CoveragePicture(j, level.resolution, level.alpha, views, view));
+  }
+  return pictures;
+}
+
 std::unique_ptr<GpuFabric> FactoredAsset::Upload(bool half) const {
   return std::make_unique<FactoredTextures>(fabric_, half);
 }

@@ -292,6 +292,28 @@ json NeuralAsset::Figures() const {
           {"levels", levels}};
 }
 
+std::vector<AssetPicture> NeuralAsset::Pictures() const {
+  std::vector<AssetPicture> pictures;
+  const size_t views = fabric_.view_count(), channels = fabric_.decoder.channels;
+  const size_t view = TopDirection(fabric_.view_directions);
+  for (uint32_t j = 0; j < fabric_.levels.size(); ++j) {
+    const NeuralLevel& level = fabric_.levels[j];
+    if (channels >= 3) {
+      pictures.push_back({j, "latents", "latents z_0, z_1, z_2 as red, green, blue, each smallest to largest",
+                          TexelPicture(
+                              level.resolution,
+                              [&](size_t texel) {
+                                const float* z = &level.latents[texel * channels];
+                                return glm::vec3(z[0], z[1], z[2]);
+                              },
+                              PictureScale::kRange)});
+    }
+    pictures.push_back(AmbientPicture(j, level.resolution, level.ambient, views, view));
+    pictures.push_back(CoveragePicture(j, level.resolution, level.alpha, views, view));
+  }
+  return pictures;
+}
+
 std::unique_ptr<GpuFabric> NeuralAsset::Upload(bool half) const {
   return std::make_unique<NeuralTextures>(fabric_, half);
 }

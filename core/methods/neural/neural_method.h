@@ -29,6 +29,7 @@ class NeuralAsset final : public FabricAsset {
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fabric_.seconds; }
   nlohmann::json Figures() const override;
+  std::vector<AssetPicture> Pictures() const override;
 
  private:
   NeuralFabric fabric_;

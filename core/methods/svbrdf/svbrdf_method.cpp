@@ -65,6 +65,38 @@ nlohmann::json SvbrdfFitFigures(const FittedFabric& fitted) {
           {"levels", levels}};
 }
 
+std::vector<AssetPicture> SvbrdfAsset::Pictures() const {
+  std::vector<AssetPicture> pictures;
+  const size_t views = fit_.view_directions.size();
+  const size_t top = TopDirection(fit_.view_directions);
+  for (uint32_t j = 0; j < fit_.levels.size(); ++j) {
+    const FittedLevel& level = fit_.levels[j];
+    const auto brdf = [&](size_t texel) -> const LafortuneBrdf& { return level.brdfs[texel]; };
+    pictures.push_back({j, "albedo", "diffuse albedo ρ_d",
+                        TexelPicture(
+                            level.resolution, [&](size_t texel) { return brdf(texel).rho; },
+                            PictureScale::kReflectance)});
+    if (fit_.lobes > 0) {
+      pictures.push_back({j, "lobe1", "lobe 1 strength |(C_x, C_y, C_z)|, scaled to its maximum",
+                          TexelPicture(
+                              level.resolution,
+                              [&](size_t texel) {
+                                const LafortuneLobe& lobe = brdf(texel).lobes[0];
+                                return glm::sqrt(lobe.cx * lobe.cx + lobe.cy * lobe.cy + lobe.cz * lobe.cz);
+                              },
+                              PictureScale::kMaximum)});
+    }
+    if (fit_.lookup_table) {
+      pictures.push_back({j, "lut", "lookup table T(v) seen from above, scaled to its maximum",
+                          TexelPicture(
+                              level.resolution, [&](size_t texel) { return level.lut[texel * views + top]; },
+                              PictureScale::kMaximum)});
+    }
+    pictures.push_back(CoveragePicture(j, level.resolution, level.alpha, views, top));
+  }
+  return pictures;
+}
+
 const FabricMethod& SvbrdfAsset::method() const { return SvbrdfMethod(); }
 
 void SvbrdfAsset::WriteSheet(const v1::PrecomputeSettings& settings, const std::string& fabric_key,

@@ -24,6 +24,7 @@ class SvbrdfAsset final : public FabricAsset {
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fit_.seconds; }
   nlohmann::json Figures() const override { return SvbrdfFitFigures(fit_); }
+  std::vector<AssetPicture> Pictures() const override;
 
  private:
   FittedFabric fit_;

@@ -211,6 +211,23 @@ json TabulatedAsset::Figures() const {
           {"levels", levels}};
 }
 
+std::vector<AssetPicture> TabulatedAsset::Pictures() const {
+  std::vector<AssetPicture> pictures;
+  const size_t views = fabric_.view_count(), lights = fabric_.light_count();
+  const size_t view = TopDirection(fabric_.view_directions), light = TopDirection(fabric_.light_directions);
+  for (uint32_t j = 0; j < fabric_.levels.size(); ++j) {
+    const TabulatedLevel& level = fabric_.levels[j];
+    pictures.push_back(
+        {j, "radiance", "radiance seen and lit from above, scaled to its maximum",
+         TexelPicture(
+             level.resolution, [&](size_t texel) { return level.radiance[(texel * views + view) * lights + light]; },
+             PictureScale::kMaximum)});
+    pictures.push_back(AmbientPicture(j, level.resolution, level.ambient, views, view));
+    pictures.push_back(CoveragePicture(j, level.resolution, level.alpha, views, view));
+  }
+  return pictures;
+}
+
 std::unique_ptr<GpuFabric> TabulatedAsset::Upload(bool half) const {
   return std::make_unique<TabulatedTextures>(fabric_, half);
 }

@@ -28,6 +28,7 @@ class TabulatedAsset final : public FabricAsset {
   std::unique_ptr<GpuFabric> Upload(bool half) const override;
   double build_seconds() const override { return fabric_.seconds; }
   nlohmann::json Figures() const override;
+  std::vector<AssetPicture> Pictures() const override;
 
  private:
   TabulatedFabric fabric_;
