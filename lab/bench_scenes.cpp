@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/spec/spec_json.h"
+#include "core/spec/spec_math.h"
 #include "core/util/error.h"
 #include "core/util/file_io.h"
 
@@ -30,14 +31,6 @@ const json& Field(const json& object, const std::string& name, const std::filesy
   return object.at(name);
 }
 
-v1::Vec3 Vec(double x, double y, double z) {
-  v1::Vec3 v;
-  v.set_x(static_cast<float>(x));
-  v.set_y(static_cast<float>(y));
-  v.set_z(static_cast<float>(z));
-  return v;
-}
-
 // A cloth object covering `shape` scaled by `scale`, tiled `repeat_u` × `repeat_v`.
 v1::SceneObject Cloth(const v1::FabricSpec& fabric, v1::BuiltinShape shape, const v1::Vec3& scale,
                       double repeat_u, double repeat_v) {
@@ -56,7 +49,7 @@ v1::Camera OrthographicCamera(const v1::Vec3& position, const v1::Vec3& up) {
   camera.set_projection(v1::PROJECTION_ORTHOGRAPHIC);
   camera.set_ortho_height(static_cast<float>(kViewHeight));
   *camera.mutable_position() = position;
-  *camera.mutable_target() = Vec(0, 0, 0);
+  *camera.mutable_target() = ToVec3(glm::vec3(0, 0, 0));
   *camera.mutable_up() = up;
   return camera;
 }
@@ -147,14 +140,17 @@ std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
       const double extent_v = kOverfill * kViewHeight / std::cos(radians);
       const double tile_world = distances.at(distance) * world_per_pixel;
       add("flat" + std::to_string(static_cast<int>(std::lround(tilt))), distance,
-          Cloth(fabric, v1::BUILTIN_SHAPE_PLANE, Vec(extent_u, extent_v, 1), extent_u / tile_world,
+          Cloth(fabric, v1::BUILTIN_SHAPE_PLANE, ToVec3(glm::vec3(extent_u, extent_v, 1)), extent_u / tile_world,
                 extent_v / tile_world),
-          OrthographicCamera(Vec(0, -kCameraDistance * std::sin(radians), kCameraDistance * std::cos(radians)),
-                             Vec(0, 1, 0)),
+          OrthographicCamera(
+              ToVec3(glm::vec3(0, -kCameraDistance * std::sin(radians), kCameraDistance * std::cos(radians))),
+              ToVec3(glm::vec3(0, 1, 0))),
           scene_base, variant);
     };
     for (const json& tilt_json : Field(set, "tilts_degrees", set_file, "")) {
-      for (const std::string& distance : distance_order) add_flat(tilt_json.get<double>(), "tilts_degrees", distance, base, {});
+      for (const std::string& distance : distance_order) {
+        add_flat(tilt_json.get<double>(), "tilts_degrees", distance, base, {});
+      }
     }
     for (const json& curved : set.value("curved", json::array())) {
       const std::string shape_name = Field(curved, "shape", set_file, "curved[].").get<std::string>();
@@ -167,9 +163,9 @@ std::vector<BenchScene> LoadBenchScenes(const std::filesystem::path& set_file) {
       const double tile_world = distances.at(distance) * world_per_pixel;
       const double r = kCurvedRadius;
       add("sphere", distance,
-          Cloth(fabric, v1::BUILTIN_SHAPE_SPHERE, Vec(r, r, r), 2.0 * std::numbers::pi * r / tile_world,
+          Cloth(fabric, v1::BUILTIN_SHAPE_SPHERE, ToVec3(glm::vec3(r, r, r)), 2.0 * std::numbers::pi * r / tile_world,
                 std::numbers::pi * r / tile_world),
-          OrthographicCamera(Vec(0, -kCameraDistance, 0), Vec(0, 0, 1)));
+          OrthographicCamera(ToVec3(glm::vec3(0, -kCameraDistance, 0)), ToVec3(glm::vec3(0, 0, 1))));
     }
     for (const Variant& variant : variants) {
       for (const double tilt : variant.tilts) {

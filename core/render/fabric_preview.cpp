@@ -2,18 +2,10 @@
 
 #include "core/render/scene_render.h"
 #include "core/spec/defaults.h"
+#include "core/spec/spec_math.h"
 #include "core/spec/validate.h"
 
 namespace loom {
-namespace {
-
-void Set(v1::Vec3& v, float x, float y, float z) {
-  v.set_x(x);
-  v.set_y(y);
-  v.set_z(z);
-}
-
-}  // namespace
 
 v1::SceneSpec FabricPreviewScene(const v1::FabricSpec& fabric, const v1::PrecomputeSettings& settings) {
   v1::SceneSpec scene;
@@ -27,11 +19,11 @@ v1::SceneSpec FabricPreviewScene(const v1::FabricSpec& fabric, const v1::Precomp
   sphere.mutable_fabric()->set_repeat_u(16);
   sphere.mutable_fabric()->set_repeat_v(8);
   v1::Camera& camera = *scene.mutable_camera();
-  Set(*camera.mutable_position(), 0.0f, -3.4f, 1.0f);
-  Set(*camera.mutable_target(), 0.0f, 0.0f, 0.0f);
+  *camera.mutable_position() = ToVec3({0.0f, -3.4f, 1.0f});
+  *camera.mutable_target() = ToVec3({0.0f, 0.0f, 0.0f});
   camera.set_fov_y_degrees(38.0f);
   v1::Light& light = *scene.add_lights();
-  Set(*light.mutable_direction(), -0.5f, -0.8f, 0.9f);
+  *light.mutable_direction() = ToVec3({-0.5f, -0.8f, 0.9f});
   light.set_intensity(3.0f);
   scene.mutable_ambient()->set_r(0.15f);
   scene.mutable_ambient()->set_g(0.15f);

@@ -1,6 +1,7 @@
 #include "tests/server/tiny_specs.h"
 
 #include "core/methods/asset_pictures.h"
+#include "core/spec/spec_math.h"
 
 namespace loom::server {
 
@@ -32,12 +33,9 @@ v1::SceneSpec TinyScene(uint32_t width, uint32_t height) {
   cloth.mutable_fabric()->set_repeat_u(4);
   cloth.mutable_fabric()->set_repeat_v(4);
   v1::Camera& camera = *scene.mutable_camera();
-  camera.mutable_position()->set_y(-1.5f);
-  camera.mutable_position()->set_z(1.5f);
+  *camera.mutable_position() = ToVec3({0.0f, -1.5f, 1.5f});
   v1::Light& light = *scene.add_lights();
-  light.mutable_direction()->set_x(-0.3f);
-  light.mutable_direction()->set_y(-0.5f);
-  light.mutable_direction()->set_z(1.0f);
+  *light.mutable_direction() = ToVec3({-0.3f, -0.5f, 1.0f});
   light.set_intensity(3.0f);
   light.set_casts_shadows(true);
   v1::RenderSettings& render = *scene.mutable_render();
