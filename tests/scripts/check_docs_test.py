@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""scripts/check_docs.py finds what drifted in a doc's commands, and nothing else.
+
+Usage: check_docs_test.py BUILD_DIR
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BUILD = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(ROOT, "build")
+
+GOOD = """
+```sh
+build/lab/loom-lab --json precompute examples/fabrics/stockinette.json --out /tmp/x   # a comment
+loom --server 127.0.0.1:7450 fabric precompute --no-wait --settings examples/precompute/standard.json \\
+    examples/fabrics/stockinette.json
+build/bench/loom_fit_benchmark --benchmark_filter='FitFabric/res:32/lobes:2/lut:1'
+ctest --test-dir build -L stability -j2
+cd web && npm run build && cd ..
+bash scripts/setup.sh --with-browser
+LOOM_TOKEN=$(cat tokens/client) build/client/loom server-info > /tmp/info.json 2>&1
+```
+"""
+
+BAD = """
+```sh
+build/lab/loom-lab precompute --no-such-flag examples/fabrics/stockinette.json
+build/lab/loom-lab render examples/scenes/no_such_scene.json --out out/x.png
+loom fabric precompute --priorty 3 examples/fabrics/stockinette.json
+build/bench/loom_fit_benchmark --benchmark_filter=NoSuchBenchmark
+ctest --test-dir build -L no_such_label
+cd web && npm run no-such-script
+bash scripts/no_such_script.sh
+```
+
+<!-- doc-check: skip -->
+```sh
+build/lab/loom-lab --skipped-flag
+```
+"""
+
+
+def check(text):
+    with tempfile.NamedTemporaryFile("w", suffix=".md", delete=False) as doc:
+        doc.write(text)
+    try:
+        run = subprocess.run([sys.executable, os.path.join(ROOT, "scripts/check_docs.py"), "--build", BUILD, doc.name],
+                             capture_output=True, text=True)
+    finally:
+        os.unlink(doc.name)
+    return run.returncode, run.stdout.splitlines()
+
+
+class CheckDocsTest(unittest.TestCase):
+    def test_current_commands_pass(self):
+        code, problems = check(GOOD)
+        self.assertEqual(problems, [])
+        self.assertEqual(code, 0)
+
+    def test_each_drift_is_reported_with_its_line(self):
+        code, problems = check(BAD)
+        self.assertEqual(code, 1)
+        expected = [
+            (3, "no option --no-such-flag"),
+            (4, "examples/scenes/no_such_scene.json: no such file or folder"),
+            (5, "no option --priorty"),
+            (6, "no benchmark matches --benchmark_filter=NoSuchBenchmark"),
+            (7, "ctest -L no_such_label: no such label"),
+            (8, "npm run no-such-script: no such script in web/package.json"),
+            (9, "scripts/no_such_script.sh: no such file or folder"),
+        ]
+        self.assertEqual(len(problems), len(expected), "\n".join(problems))
+        for problem, (line, message) in zip(problems, expected):
+            self.assertIn(f".md:{line}: ", problem)
+            self.assertIn(message, problem)
+
+
+if __name__ == "__main__":
+    unittest.main()
