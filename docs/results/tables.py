@@ -5,6 +5,7 @@ usage: tables.py sweep SWEEP_CSV | tables.py plan PLAN_CSV [BUDGET_DB [REPEAT_CS
        | tables.py methods METHODS_CSV (bench/sweep_methods.json: every method against svbrdf's defaults)
        | tables.py colours COLOURS_CSV (bench/sweep_colours.json: colourways of one fabric, front- and back-lit)
        | tables.py volume VOLUME_CSV (bench/sweep_volume.json: knits as yarn volumes and as tubes, per distance)
+       | tables.py choose METHODS_CSV (the README's table: each method at its defaults)
 Medians leave non-finite figures out, as the chart does; a "blow-up" is a row whose
 image held NaN (PSNR or flicker not finite) or radiance so large that PSNR < 0."""
 import csv, math, re, statistics, sys
@@ -295,8 +296,24 @@ def volume(path):
             med([num(r["precompute_seconds"]) for r in mine], "%.0f"),
             med([num(r["asset_bytes"]) / 1e6 for r in mine], "%.2f"), med([num(r["frame_ms"]) for r in mine], "%.0f")))
 
+# The README's "which method" table: each method at its defaults (methods.csv's
+# configurations default, tabulated, factored, neural), medians over the sweep's scenes.
+def choose(path):
+    table = rows(path)
+    print("| method | PSNR dB | SSIM | frame ms | precompute s (CPU) | asset MB |")
+    print("|---|---|---|---|---|---|")
+    for configuration, name in (("default", "svbrdf"), ("factored", "factored"), ("neural", "neural"),
+                                ("tabulated", "tabulated")):
+        mine = [r for r in table if r["configuration"] == configuration]
+        column = lambda c, fmt, scale=1: med([num(r[c]) * scale for r in mine], fmt)
+        print("| %s | %s | %s | %s | %s | %s |" % (
+            name, column("psnr_db", "%.1f"), med([1 - num(r["perceptual_error"]) for r in mine], "%.2f"),
+            column("frame_ms", "%.0f"), column("precompute_cpu_seconds", "%.0f"), column("asset_bytes", "%.1f", 1e-6)))
+
 if __name__ == "__main__":
-    if sys.argv[1] == "volume":
+    if sys.argv[1] == "choose":
+        choose(sys.argv[2])
+    elif sys.argv[1] == "volume":
         volume(sys.argv[2])
     elif sys.argv[1] == "methods":
         methods(sys.argv[2])
