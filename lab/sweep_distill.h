@@ -15,9 +15,9 @@
 // Repeats. Rows of one scene whose settings columns all agree but for the seed (which
 // picks acquisition's ray jitter) measure the same figure: each stands for the mean
 // PSNR, precompute time and bytes over the seeds measured (a seed found twice counts
-// once), the baseline and the variations alike. Far away one fit's PSNR moves by about
-// 0.5 dB with the seed, as much as the planner's budget (docs/results/plan.md), so a
-// single fit there says more about its draw than about its settings.
+// once), the baseline and the variations alike. Far away one fit's PSNR moves with
+// the seed by about the planner's budget (docs/results/plan.md), so a single fit
+// there says more about its draw than about its settings.
 
 #include <string>
 #include <vector>

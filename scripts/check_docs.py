@@ -17,8 +17,12 @@ Arguments with a placeholder (an upper-case word such as DIR or SPEC, or "…") 
 outside the repository are not checked. A line right before a block may say
 `<!-- doc-check: skip -->` (not checked: it runs elsewhere) or
 `<!-- doc-check: creates PATH … -->` (the block makes those paths; they need not exist).
-Usage: check_docs.py [--build DIR] [FILE.md …]; prints each problem as FILE:LINE and
-exits 1 if there is any.
+With --comments, it also checks that no code comment outside tests/ holds a measured
+figure (a number in dB, or a before → after in milliseconds): figures go stale with the
+next sweep and belong in docs/, where they are reproducible.
+
+Usage: check_docs.py [--build DIR] [--comments [SOURCE …]] [FILE.md …]; prints each
+problem as FILE:LINE and exits 1 if there is any.
 """
 
 import argparse
@@ -224,6 +228,26 @@ class Checker:
                 self.problem(where, f"ctest -R {value}: no test matches")
 
 
+SOURCE_DIRS = ("core", "server", "worker", "client", "lab", "rpc", "bench", "fuzz")
+SOURCE_SUFFIXES = (".h", ".cpp", ".glsl", ".frag", ".vert", ".comp")
+MEASURED = re.compile(r"(//|^\s*\*).*(\d ?dB\b|\d ?(ms )?→ ?\d+(\.\d+)? ?ms\b)")
+
+
+def comment_figures(checker, paths):
+    """Code comments with a measured figure (MEASURED)."""
+    for path in paths:
+        for number, line in enumerate(open(path, encoding="utf-8", errors="replace"), 1):
+            if MEASURED.search(line):
+                checker.problem(f"{os.path.relpath(path, ROOT)}:{number}",
+                                "a measured figure in a comment (put it in docs/): " + line.strip())
+
+
+def sources():
+    for top in SOURCE_DIRS:
+        for folder, _, names in os.walk(os.path.join(ROOT, top)):
+            yield from (os.path.join(folder, n) for n in sorted(names) if n.endswith(SOURCE_SUFFIXES))
+
+
 def inside(path):
     return os.path.commonpath([os.path.abspath(path), ROOT]) == ROOT
 
@@ -266,16 +290,22 @@ def split_commands(tokens):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+    parser.add_argument("--comments", action="store_true", help="check code comments instead of docs")
     parser.add_argument("files", nargs="*")
     options = parser.parse_args()
-    files = options.files or [os.path.join(ROOT, "README.md")] + sorted(
-        f for f in glob.glob(os.path.join(ROOT, "docs", "**", "*.md"), recursive=True))
     checker = Checker(os.path.abspath(options.build))
-    for path in files:
-        checker.check_file(os.path.abspath(path))
+    if options.comments:
+        files = options.files or list(sources())
+        comment_figures(checker, files)
+    else:
+        files = options.files or [os.path.join(ROOT, "README.md")] + sorted(
+            f for f in glob.glob(os.path.join(ROOT, "docs", "**", "*.md"), recursive=True))
+        for path in files:
+            checker.check_file(os.path.abspath(path))
     for problem in checker.problems:
         print(problem)
-    print(f"{len(files)} files, {checker.commands} commands, {len(checker.problems)} problems", file=sys.stderr)
+    checked = f"{len(files)} files" + ("" if options.comments else f", {checker.commands} commands")
+    print(f"{checked}, {len(checker.problems)} problems", file=sys.stderr)
     return 1 if checker.problems else 0
 
 

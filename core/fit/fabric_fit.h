@@ -1,40 +1,21 @@
 #pragma once
 // Fitting a whole fabric tile (Daubert 2001 §5, §5.1): the BRDF array of every
-// mip level from one set of radiance samples.
+// mip level from one set of radiance samples ("fitted, not filtered" levels).
 //
-// Level 0 has one texel per sampled texel. Texel (x, y) of level k + 1 is fitted
-// to the pooled raw samples of its 2×2 children at level k, which are the raw
-// samples of the 2^{k+1}×2^{k+1} level-0 texels it covers: the paper's "fitted, not
-// filtered" mip levels, each level seeing the same raw samples. Those of one view
-// and light are pooled exactly (texel_fit.h TexelSamples), so a coarse texel costs
-// what a fine one does. Its normal is its children's normals averaged, its tangent
-// re-derived from that normal as acquisition derives tangents
-// (core/acquire/radiance_samples.h TexelTangent), and its alpha per view the mean
-// of its children's (alpha is not fitted, §5).
+// Level 0 has one texel per sampled texel; texel (x, y) of level k + 1 is fitted
+// to the pooled raw samples of its 2×2 children (texel_fit.h TexelSamples), its
+// normal their normals averaged, its tangent re-derived as acquisition derives
+// tangents, its alpha per view their mean (alpha is not fitted). Empty texels (no
+// view with alpha > 0) keep status kEmpty and their alpha 0 and take their parent's
+// BRDF and table (at the top level, or without mip levels, the nearest non-empty
+// texel's, tile-periodically), so filtering across a hole sees sensible values.
 //
-// Empty texels (no view with alpha > 0) keep status kEmpty and take their
-// parent's BRDF and table, or at the top level (or without mip levels) those of
-// the nearest non-empty texel of their level, tile-periodically; their alpha stays
-// 0, so a renderer shows the hole, but filtering across it sees sensible values.
-//
-// Work. Levels are fitted coarsest first, each texel from several starts, keeping
-// the fit with the least error on its samples (texel_fit.h ChannelStart): the top
-// level from the paper's start and AlternativeStarts, a level between the top and
-// level 0 from the paper's start and its parent's fit, level 0 from the paper's
-// start alone. So a level depends on its own samples and the coarser levels' fits,
-// never on a finer level's: the mip levels a scene shows come out the same (up to
-// rounding) from a fit whose finest level is coarser — acquired at a lower
-// resolution with proportionally more supersampling, the same rays — which is what
-// lets the planner drop the levels a scene's footprint cannot show
-// (core/plan/precompute_plan.h). Fitted finest first from their children's fits, as
-// before asset format 5, the coarse levels inherited the fine levels' minima: the
-// same 2×2 level of a far-away knit, fitted from the same samples, differed by up
-// to 2 dB of frame PSNR between a 32×32 and an 8×8 finest level (docs/results/plan.md).
-// Level 0 keeps the paper's start: it is most of the fit's time (a coarse texel
-// costs what a fine one does), and a parent's fit as its only start led the shiny
-// satin's texels into worse minima (2.3 dB lower PSNR close up). Within a level
-// each (texel, channel) is an independent work item (texel_fit.h), spread over
-// every core by ParallelFor. The result does not depend on the thread count.
+// Levels are fitted coarsest first, each texel from several starts, keeping the
+// least error: a level depends on its own samples and the coarser levels' fits,
+// never on a finer level's, so the planner may drop the levels a scene cannot show
+// (core/plan/precompute_plan.h). Within a level each (texel, channel) is an
+// independent work item spread over every core; the result does not depend on the
+// thread count. Why each choice: docs/methods.md, "svbrdf".
 
 #include <cstdint>
 #include <functional>

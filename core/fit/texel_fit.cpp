@@ -292,7 +292,7 @@ ChannelFit FitChannel(const TexelGeometry& geometry, const std::vector<double>& 
   // From the paper's start and from each given one, the fit with the least error.
   // Not merely the start closest to the samples: a parent's fit is closer than the
   // paper's start and then converges within a few iterations into a shallower
-  // minimum (a 13% higher RMSE on a knit's 1×1 level).
+  // minimum (a knit's 1×1 level fitted worse that way).
   ChannelFit best = fit_from(nullptr);
   for (const ChannelStart& start : starts) {
     ChannelFit fit = fit_from(&start);

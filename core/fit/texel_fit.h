@@ -81,9 +81,8 @@ TexelFitOptions MakeTexelFitOptions(const v1::PrecomputeSettings& settings);
 //
 // Why coverage: a child hit by one ray in four must not count as much as a fully
 // covered one. Unweighted, a coarse texel's target depended on the resolution its
-// children were acquired at — the same 2×2 level fitted from 32 texels with 2×2
-// rays each and from 8 texels with 8×8 rays each differed by up to 9 dB of PSNR in
-// far-distance frames of the bench set (docs/results/plan.md).
+// children were acquired at, so the same coarse level fitted from fine texels with
+// few rays and from coarse texels with many differed (docs/results/plan.md).
 class TexelSamples {
  public:
   explicit TexelSamples(uint32_t view_count);

@@ -19,12 +19,11 @@
 //    its defaults, whose asset is at most kMaxPlannedBytesRatio times the
 //    defaults') is a candidate if its WORST
 //    measured PSNR loss, over every scene of its class the sweep measured, is within
-//    the error budget — not merely its mean (a class's mean hid a shiny satin
-//    losing 2 dB among matte fabrics losing nothing, and far knits losing 8 dB
-//    among far scenes gaining as much). The plan takes the candidate that saves the
-//    most precompute time, and only one: the sweep measures variations one at a
-//    time, and their combination is not the sum of their losses (three variations
-//    that each lost at most 0.4 dB on the far satin lost 2.8 dB together). So a
+//    the error budget — not merely its mean (a class's mean can hide one fabric
+//    losing much among others losing nothing). The plan takes the candidate that
+//    saves the most precompute time, and only one: the sweep measures variations one
+//    at a time, and their combination is not the sum of their losses (measured in
+//    docs/accuracy.md and docs/results/plan.md). So a
 //    plan is a configuration the sweep measured on every scene of its class, and
 //    met the budget on each of them by construction. No candidate: the defaults.
 // The error budget is the PSNR, in dB against the ground truth, the plan may lose

@@ -90,7 +90,8 @@ class GpuRenderer {
   std::map<std::string, gl::ShaderProgram> cloth_programs_;  // by shader and defines
   gl::ShaderProgram opaque_program_;  // objects without a fabric (core/shaders/opaque.frag)
   // Kept from frame to frame while the size and sample count stay: allocating the
-  // multisampled float target (about 200 MB at 1080p) cost llvmpipe ~50 ms a frame.
+  // multisampled float target each frame is a large share of llvmpipe's frame
+  // (docs/gpu.md, "llvmpipe frame time").
   std::unique_ptr<gl::Framebuffer> target_;
   std::unique_ptr<ShadowMaps> shadows_;
   std::unique_ptr<ClothGbuffer> gbuffer_;  // the compute pass's, kept alike

@@ -6,17 +6,15 @@
 //
 // Objects without a fabric have their own program (opaque.frag), not a branch
 // here: llvmpipe runs both sides of a branch under a mask, so a floor drawn with
-// this program paid for the fabric's shading (the 1080p bench cloth's floor and
-// ball alone took 525 ms, 399 ms with their own program; docs/gpu.md).
+// this program would pay for the fabric's shading (docs/gpu.md, "llvmpipe frame
+// time").
 
 // One level at `tile`: the shadings of its taps (fabric_surface.glsl FabricTap: the
 // texel it falls in, the paper's lookup, or with LOOM_BILINEAR_TEXELS the four around
-// it), blended. Blending shadings, not parameters: a mean of
-// lobes is not the lobe of a mean (blending the parameters measured −0.31 dB on the
-// bench set, blending the shadings +1.6 dB). The 1×1 level takes the same path (its
-// four taps are the one texel, weights summing to 1): a branch for it cost llvmpipe,
-// which runs both sides of a branch, a fifth shading on every level (1080p bench
-// cloth 712 → 631 ms without it).
+// it), blended. Blending shadings, not parameters: a mean of lobes is not the lobe of
+// a mean (docs/accuracy.md). The 1×1 level takes the same path (its four taps are the
+// one texel, weights summing to 1): a branch for it would cost llvmpipe, which runs
+// both sides of a branch, a fifth shading on every level.
 vec4 ShadeFabricLevel(vec2 tile, int level, FabricFragment fragment) {
   vec4 result = vec4(0.0);
   for (int i = 0; i < kFabricTaps; ++i) {

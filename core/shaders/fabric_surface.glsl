@@ -163,9 +163,7 @@ float FabricTap(vec2 tile, int level, int i, out ivec2 texel) {
 // level-0 texels; the mode picks level 0, the nearest level or the two nearest.
 // The footprint's side is the geometric mean of its two axes (the square of the
 // same area), not the longer axis: on cloth seen obliquely the longer axis blurs
-// the shorter one away. Measured against the reference on the standard knit at 45°
-// (loom-lab compare): mid distance PSNR 14.3 → 14.7 dB, SSIM 0.52 → 0.61, for a
-// little more flicker under a one-pixel move (0.0016 → 0.0021; level 0: 0.023).
+// the shorter one away, for a little more flicker (measured: docs/accuracy.md).
 //
 // Anisotropic mode (compiled apart, with LOOM_ANISOTROPIC_LEVELS defined: its loop
 // costs the other modes half as much again on llvmpipe even when it runs once), as

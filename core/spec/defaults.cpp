@@ -252,8 +252,8 @@ v1::RenderSettings WithDefaults(v1::RenderSettings settings) {
     settings.set_msaa_samples(settings.method() == v1::RENDER_METHOD_LUMISLICE ? 1 : kDefaultMsaaSamples);
   }
   if (settings.level_mode() == v1::LEVEL_MODE_UNSPECIFIED) settings.set_level_mode(v1::LEVEL_MODE_TRILINEAR);
-  // Bilinear: +1.6 dB on average over the paper's nearest lookup on the bench set and
-  // under a second per 1080p frame on llvmpipe (docs/accuracy.md).
+  // Bilinear: more accurate than the paper's nearest lookup on the bench set, within
+  // the frame-time goal on llvmpipe (figures: docs/accuracy.md, docs/gpu.md).
   if (settings.texel_filter() == v1::TEXEL_FILTER_UNSPECIFIED) settings.set_texel_filter(v1::TEXEL_FILTER_BILINEAR);
   if (settings.shading_rate() == v1::SHADING_RATE_UNSPECIFIED) settings.set_shading_rate(v1::SHADING_RATE_PIXEL);
   if (settings.shadow_map_size() == 0) settings.set_shadow_map_size(kDefaultShadowMapSize);
