@@ -4,31 +4,11 @@
 //
 //   e_s = T(view_s) · l_z,s · (ρ + Σ_i [C_i · a_s]^{N_i}) − r_s
 //
-// and the lookup table T held fixed (the alternation updates it in closed form
-// between fits). The parameters are one block x of p = 1 + 4·lobes values.
-//
-// One residual block, analytic derivatives, and the residuals compressed. A texel
-// has thousands of samples (a coarse mip texel millions) but only p ≤ 13
-// parameters. Handing Ceres all e_s and their m×p Jacobian makes it copy, check,
-// scale and multiply that tall matrix every iteration, which cost more than
-// evaluating the model. Instead the block has p + 1 residuals e' and Jacobian J'
-// chosen so that for every step δ
-//
-//   ‖J'δ + e'‖² = ‖Jδ + e‖²,   i.e. J'ᵀJ' = JᵀJ, J'ᵀe' = Jᵀe, ‖e'‖² = ‖e‖²:
-//
-// with JᵀJ = V Λ Vᵀ, J' = [Λ^{1/2} Vᵀ; 0] and e' = [Λ^{−1/2} Vᵀ Jᵀe; √(‖e‖² − ‖·‖²)].
-// Cost, gradient, Gauss–Newton matrix and the predicted decrease of every
-// Levenberg–Marquardt step are those of the full problem, so Ceres takes the same
-// steps; only JᵀJ, Jᵀe and ‖e‖² are accumulated, in one pass over the samples.
-// (The same identity is why a QR factorisation can replace a tall least-squares
-// system by its R factor.) A cost-only evaluation returns e' = (‖e‖, 0, …).
-//
-// Levenberg–Marquardt evaluates each candidate's cost and, once it accepts the
-// step, the Jacobian at the same point: the lobe values and their logarithms (the
-// only transcendental work) are kept from one evaluation to the next, so an
-// accepted step costs one log and one exp per lobe and sample, not two (vectorised,
-// core/fit/lobe_powers.h). The cache
-// makes a LobeCost single-threaded: one per solve.
+// and the lookup table T held fixed; the parameters are one block x of
+// p = 1 + 4·lobes values. The samples are compressed into p + 1 residuals with the
+// same cost, gradient and Gauss–Newton matrix, so Ceres takes the full problem's
+// steps; lobe powers are cached between evaluations, which makes a LobeCost
+// single-threaded: one per solve. Derivation: docs/methods.md, "svbrdf".
 
 #include <ceres/ceres.h>
 
