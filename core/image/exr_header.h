@@ -8,7 +8,8 @@
 // `width`×`height` the caller expects, every attribute within the file, vectors
 // and previews consistent with their own sizes, tiles of 16 to 65536 pixels a
 // side and no larger than the image (or 64 pixels; OpenImageIO allocates a whole
-// tile, however small the image: found by fuzz/asset_fuzzer). Anything else is Error(kInvalidArgument) naming `source` and the field.
+// tile, however small the image: found by fuzz/asset_fuzzer). Anything else is
+// Error(kInvalidArgument) naming `source` and the field.
 
 #include <string>
 #include <string_view>
