@@ -91,7 +91,8 @@ ClientCommand AddPrecompute(CLI::App& fabric, ClientFlags& flags) {
     SubmitOptions submit;
   };
   auto options = std::make_shared<Options>();
-  auto* command = fabric.add_subcommand("precompute", "Build a fabric's asset with its method on the server (cached by its key)");
+  auto* command =
+      fabric.add_subcommand("precompute", "Build a fabric's asset with its method on the server (cached by its key)");
   command->footer(
       "A fabric already in the server's cache is not fitted again: the submission is answered by a job that is\n"
       "SUCCEEDED at once and names the cached fabric (its log says so). To fit it again, remove it first\n"
