@@ -9,7 +9,7 @@ Adam — on random data (the step's cost does not depend on the values).
     python3 bench/neural_torch_steps.py [--steps 2000] [--threads 2] [--channels 8] [--hidden 32]
 
 Prints seconds per step; Loom's own is `loom-lab fit`'s seconds over its steps
-(docs/methods.md "neural")."""
+(docs/methods/neural.md)."""
 import argparse
 import time
 

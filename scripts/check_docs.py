@@ -11,7 +11,8 @@ within the block), and each is checked without running the slow ones:
 - `npm run NAME`: package.json of that directory has the script;
 - `ctest -L LABEL` / `-R REGEX`: at least one test matches;
 - scripts run by path or through bash/python3/node, and every argument that names a
-  file or folder of the repository (bench/…, examples/…, docs/…): they exist.
+  file or folder of the repository (bench/…, examples/…, docs/…): they exist;
+- every relative Markdown link and image of the page: its file exists.
 
 Arguments with a placeholder (an upper-case word such as DIR or SPEC, or "…") and paths
 outside the repository are not checked. A line right before a block may say
@@ -65,6 +66,7 @@ class Checker:
     def check_file(self, path):
         rel = os.path.relpath(path, ROOT)
         lines = open(path, encoding="utf-8").read().split("\n")
+        self.check_links(rel, path, lines)
         i = 0
         while i < len(lines):
             fence = re.match(r"^\s*```\s*(\w*)", lines[i])
@@ -82,6 +84,20 @@ class Checker:
                 self.created = created.group(1).split() if created else []
                 self.check_block(rel, start, lines[start:i])
             i += 1
+
+    def check_links(self, rel, path, lines):
+        fenced = False
+        for number, line in enumerate(lines, 1):
+            if re.match(r"^\s*```", line):
+                fenced = not fenced
+            if fenced:
+                continue
+            for target in re.findall(r"\]\(([^)\s]+)\)", line):
+                if re.match(r"^([a-z]+:|#)", target):
+                    continue
+                file = os.path.normpath(os.path.join(os.path.dirname(path), target.split("#", 1)[0]))
+                if not os.path.exists(file):
+                    self.problem(f"{rel}:{number}", f"link {target}: no such file")
 
     def check_block(self, rel, first_line, lines):
         cwd = ROOT

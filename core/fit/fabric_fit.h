@@ -15,7 +15,7 @@
 // never on a finer level's, so the planner may drop the levels a scene cannot show
 // (core/plan/precompute_plan.h). Within a level each (texel, channel) is an
 // independent work item spread over every core; the result does not depend on the
-// thread count. Why each choice: docs/methods.md, "svbrdf".
+// thread count. Why each choice: docs/methods/svbrdf.md.
 
 #include <cstdint>
 #include <functional>

@@ -8,7 +8,7 @@
 // p = 1 + 4·lobes values. The samples are compressed into p + 1 residuals with the
 // same cost, gradient and Gauss–Newton matrix, so Ceres takes the full problem's
 // steps; lobe powers are cached between evaluations, which makes a LobeCost
-// single-threaded: one per solve. Derivation: docs/methods.md, "svbrdf".
+// single-threaded: one per solve. Derivation: docs/methods/svbrdf.md.
 
 #include <ceres/ceres.h>
 

@@ -8,7 +8,7 @@
 // Every method's GPU asset shares the view atlas of core/shaders/fabric_surface.glsl
 // (per level, texel and view: RGB for the method, A the coverage alpha) at its first
 // texture unit: the shadow pass reads coverage from it whatever the method.
-// docs/methods.md describes each method's model and figures.
+// docs/methods.md is the interface's page, docs/methods/NAME.md each method's model and figures.
 
 #include <filesystem>
 #include <functional>

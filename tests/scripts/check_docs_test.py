@@ -37,6 +37,8 @@ cd web && npm run no-such-script
 bash scripts/no_such_script.sh
 ```
 
+See [the methods](../../docs/no_such_page.md) and [the README](../../README.md#run-it).
+
 <!-- doc-check: skip -->
 ```sh
 build/lab/loom-lab --skipped-flag
@@ -45,7 +47,9 @@ build/lab/loom-lab --skipped-flag
 
 
 def check(text, suffix=".md", *flags):
-    with tempfile.NamedTemporaryFile("w", suffix=suffix, delete=False) as doc:
+    # Beside this test, so that the page's relative links resolve in the repository.
+    with tempfile.NamedTemporaryFile("w", suffix=suffix, dir=os.path.dirname(os.path.abspath(__file__)),
+                                     delete=False) as doc:
         doc.write(text)
     try:
         run = subprocess.run([sys.executable, os.path.join(ROOT, "scripts/check_docs.py"), "--build", BUILD, *flags,
@@ -72,8 +76,10 @@ class CheckDocsTest(unittest.TestCase):
             (7, "ctest -L no_such_label: no such label"),
             (8, "npm run no-such-script: no such script in web/package.json"),
             (9, "scripts/no_such_script.sh: no such file or folder"),
+            (12, "link ../../docs/no_such_page.md: no such file"),
         ]
         self.assertEqual(len(problems), len(expected), "\n".join(problems))
+        problems.sort(key=lambda p: int(p.split(".md:")[1].split(":")[0]))
         for problem, (line, message) in zip(problems, expected):
             self.assertIn(f".md:{line}: ", problem)
             self.assertIn(message, problem)

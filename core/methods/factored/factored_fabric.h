@@ -8,7 +8,7 @@
 // A(v)·L(v, l)/|A(v)|² (the colour's least-squares projection on A), rows weighted
 // by |A(v)| so that it minimises the error in radiance. EvaluateFactored is the
 // renderer's lookup in C++: A, a_k and b_k bilinear between stored directions.
-// Derivation: docs/methods.md "factored".
+// Derivation: docs/methods/factored.md.
 
 #include <cstdint>
 #include <functional>

@@ -267,7 +267,7 @@ NeuralFabric TrainNeural(const TabulatedFabric& table, const NeuralTraining& tra
   }
   const uint32_t report = std::max<uint32_t>(training.steps / 100, 1);
   // Every level drawn equally often: the coarse levels, which distant cloth shows,
-  // get as much of the shared decoder's attention as the finest (docs/methods.md).
+  // get as much of the shared decoder's attention as the finest (docs/methods/neural.md).
   const auto draw_batch = [&](size_t) {
     for (Sample& s : batch) {
       s.level = draw.Below(table.levels.size());

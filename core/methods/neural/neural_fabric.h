@@ -14,7 +14,7 @@
 // level, so each level's latents are fitted to that level's pooled samples (fitted mip
 // levels). Deterministic for a seed and a step count, whatever the thread count.
 // EvaluateNeural is the renderer's lookup in C++ (core/shaders/neural.glsl).
-// Derivation: docs/methods.md "neural".
+// Derivation: docs/methods/neural.md.
 
 #include <cstdint>
 #include <functional>

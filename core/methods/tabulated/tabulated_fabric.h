@@ -5,7 +5,7 @@
 // coverage; a (texel, view) with alpha 0 takes its parent's radiance. Per (texel,
 // view) it also holds the ambient response, 2π/L · Σ_l L(v, l). EvaluateTabulated is
 // the renderer's lookup in C++ (core/shaders/tabulated.glsl). Derivation:
-// docs/methods.md "tabulated".
+// docs/methods/tabulated.md.
 
 #include <algorithm>
 #include <cstdint>

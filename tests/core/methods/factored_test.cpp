@@ -74,7 +74,7 @@ TEST(FactoredFabric, FullRankHoldsATableWhoseColourChangesWithTheViewAlone) {
 
 // Where the colour changes with the light (two yarns of two colours, each lit from
 // its own side) the shared shape cannot follow it, whatever the rank: the limit
-// docs/methods.md states.
+// docs/methods/factored.md states.
 TEST(FactoredFabric, ColourThatChangesWithTheLightIsBeyondIt) {
   RadianceSamples samples(1, HemisphereGridDirections(16), HemisphereGridDirections(16));
   for (size_t view = 0; view < samples.view_count(); ++view) {
