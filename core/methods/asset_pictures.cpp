@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -40,11 +41,17 @@ size_t TopDirection(const std::vector<glm::vec3>& directions) {
   return static_cast<size_t>(top - directions.begin());
 }
 
+AssetPicture PerViewPicture(uint32_t level, std::string map, std::string caption, uint32_t resolution,
+                            const std::vector<glm::vec3>& values, size_t views, size_t view) {
+  return {level, std::move(map), std::move(caption),
+          TexelPicture(
+              resolution, [&](size_t texel) { return values[texel * views + view]; }, PictureScale::kMaximum)};
+}
+
 AssetPicture AmbientPicture(uint32_t level, uint32_t resolution, const std::vector<glm::vec3>& ambient, size_t views,
                             size_t view) {
-  return {level, "ambient", "ambient response seen from above, scaled to its maximum",
-          TexelPicture(
-              resolution, [&](size_t texel) { return ambient[texel * views + view]; }, PictureScale::kMaximum)};
+  return PerViewPicture(level, "ambient", "ambient response seen from above, scaled to its maximum", resolution,
+                        ambient, views, view);
 }
 
 AssetPicture CoveragePicture(uint32_t level, uint32_t resolution, const std::vector<float>& alpha, size_t views,

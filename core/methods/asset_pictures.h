@@ -41,6 +41,11 @@ Image TexelPicture(uint32_t resolution, const std::function<glm::vec3(size_t tex
 // picture of a per-direction table shows.
 size_t TopDirection(const std::vector<glm::vec3>& directions);
 
+// A map stored per (texel, view) at [texel·views + view], seen from view `view`,
+// scaled to its maximum.
+AssetPicture PerViewPicture(uint32_t level, std::string map, std::string caption, uint32_t resolution,
+                            const std::vector<glm::vec3>& values, size_t views, size_t view);
+
 // The pictures every table-based method has at a level: the ambient response and
 // the coverage alpha, both seen from view `view` of `views`, per texel
 // ([texel·views + view]).

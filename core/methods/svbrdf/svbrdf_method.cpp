@@ -87,10 +87,8 @@ std::vector<AssetPicture> SvbrdfAsset::Pictures() const {
                               PictureScale::kMaximum)});
     }
     if (fit_.lookup_table) {
-      pictures.push_back({j, "lut", "lookup table T(v) seen from above, scaled to its maximum",
-                          TexelPicture(
-                              level.resolution, [&](size_t texel) { return level.lut[texel * views + top]; },
-                              PictureScale::kMaximum)});
+      pictures.push_back(PerViewPicture(j, "lut", "lookup table T(v) seen from above, scaled to its maximum",
+                                        level.resolution, level.lut, views, top));
     }
     pictures.push_back(CoveragePicture(j, level.resolution, level.alpha, views, top));
   }
