@@ -5,6 +5,7 @@
 #   scripts/setup.sh                install what is missing, configure, build
 #   scripts/setup.sh --no-build     install only
 #   scripts/setup.sh --with-browser also Chromium, for the dashboard's browser tests
+#   scripts/setup.sh --with-promtool also Prometheus's promtool, which checks /metrics
 #
 # Environment: BUILD_DIR (default build), BUILD_TYPE (default Release),
 #              JOBS (default: number of cores).
@@ -22,7 +23,7 @@ PACKAGES=(
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev
   nlohmann-json3-dev libssl-dev
-  libyaml-cpp-dev libcpp-httplib-dev
+  libyaml-cpp-dev libcpp-httplib-dev prometheus-cpp-dev
   libtinygltf-dev
   gnuplot-nox ffmpeg
   clang libclang-rt-14-dev
@@ -33,6 +34,7 @@ for argument in "$@"; do
   case "$argument" in
     --no-build) NO_BUILD=1 ;;
     --with-browser) PACKAGES+=(chromium) ;;
+    --with-promtool) PACKAGES+=(prometheus) ;;
     *) echo "setup.sh: unknown argument $argument" >&2; exit 2 ;;
   esac
 done
@@ -53,6 +55,12 @@ if ((${#missing[@]})); then
   if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  # Debian's prometheus package starts its server where systemd runs; Loom's tests
+  # need only its promtool, so a server this script installed is stopped again.
+  if [[ " ${missing[*]} " == *" prometheus "* ]] && command -v systemctl >/dev/null &&
+    systemctl is-active --quiet prometheus 2>/dev/null; then
+    $SUDO systemctl disable --now prometheus
+  fi
 else
   echo "loom setup: all ${#PACKAGES[@]} packages present"
 fi

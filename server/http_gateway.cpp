@@ -15,6 +15,7 @@
 #include "loom/v1/service.grpc.pb.h"
 #include "rpc/auth.h"
 #include "rpc/channel.h"
+#include "server/http_serving.h"
 
 namespace loom::server {
 namespace {
@@ -225,17 +226,7 @@ HttpGateway::HttpGateway(HttpOptions options, std::shared_ptr<grpc::Channel> cha
     throw Error(ErrorCode::kInvalidArgument, "--web-root " + options.web_root.string() +
                                                  ": no index.html (build the dashboard: scripts/setup.sh)");
   }
-  const size_t colon = options.listen.rfind(':');
-  int wanted_port = -1;
-  try {
-    if (colon != std::string::npos) wanted_port = std::stoi(options.listen.substr(colon + 1));
-  } catch (const std::exception&) {
-  }
-  if (colon == std::string::npos || colon == 0 || wanted_port < 0 || wanted_port > 65535) {
-    throw Error(ErrorCode::kInvalidArgument, "--http " + options.listen + ": not host:port");
-  }
-  std::string host = options.listen.substr(0, colon);
-  if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  const HostPort address = ParseHostPort("--http", options.listen);
 
   routes_->stub = v1::LoomService::NewStub(std::move(channel));
   routes_->secure = !options.tls_cert_file.empty();
@@ -281,33 +272,15 @@ HttpGateway::HttpGateway(HttpOptions options, std::shared_ptr<grpc::Channel> cha
   if (!server.set_mount_point("/", options.web_root.string())) {
     throw Error(ErrorCode::kInvalidArgument, "--web-root " + options.web_root.string() + ": not a directory");
   }
-  if (wanted_port == 0) {
-    port_ = server.bind_to_any_port(host);
-  } else if (server.bind_to_port(host, wanted_port)) {
-    port_ = wanted_port;
-  }
-  if (port_ <= 0) {
-    throw Error(ErrorCode::kUnavailable,
-                "--http " + options.listen + ": cannot listen (in use, or not an address here)");
-  }
-  // stop() only ends a server already running: wait for it to be (briefly), or to
-  // have ended of itself.
-  auto ended = std::make_shared<std::atomic<bool>>(false);
-  thread_ = std::thread([&server, ended] {
-    server.listen_after_bind();
-    *ended = true;
-  });
-  while (!server.is_running() && !*ended) std::this_thread::yield();
-  spdlog::info("dashboard on http{}://{}:{}/ (files from {})", routes_->secure ? "s" : "", host, port_,
+  serving_ = std::make_unique<HttpServing>(server, "--http", address);
+  spdlog::info("dashboard on http{}://{}:{}/ (files from {})", routes_->secure ? "s" : "", address.host, port(),
                options.web_root.string());
 }
 
 HttpGateway::~HttpGateway() { Stop(); }
 
-void HttpGateway::Stop() {
-  if (!thread_.joinable()) return;
-  server_->stop();
-  thread_.join();
-}
+void HttpGateway::Stop() { serving_->Stop(); }
+
+int HttpGateway::port() const { return serving_->port(); }
 
 }  // namespace loom::server

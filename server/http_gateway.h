@@ -17,13 +17,14 @@
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <thread>
 
 namespace httplib {
 class Server;
 }
 
 namespace loom::server {
+
+class HttpServing;
 
 struct HttpOptions {
   std::string listen;              // host:port; port 0 picks a free one
@@ -42,7 +43,7 @@ class HttpGateway {
   HttpGateway(const HttpGateway&) = delete;
   HttpGateway& operator=(const HttpGateway&) = delete;
 
-  int port() const { return port_; }
+  int port() const;
   // Stops taking requests and waits for those under way; idempotent.
   void Stop();
 
@@ -50,8 +51,7 @@ class HttpGateway {
   struct Routes;
   std::unique_ptr<Routes> routes_;
   std::unique_ptr<httplib::Server> server_;
-  std::thread thread_;
-  int port_ = 0;
+  std::unique_ptr<HttpServing> serving_;
 };
 
 }  // namespace loom::server

@@ -72,7 +72,7 @@ void SendStoredArtifact(ArtifactStore& artifacts, const std::string& sha256,
 
 grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
                                    v1::SubmitJobResponse* response) {
-  return Guard(*context, state_.client_token, "SubmitJob", [&] {
+  return Guard(*context, frame_, "SubmitJob", [&] {
     if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
     // A render's meshes are parsed here: within the server's parse slots.
     std::optional<ParseSlots::Slot> slot;
@@ -82,7 +82,7 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
 }
 
 grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
-  return Guard(*context, state_.client_token, "GetJob", [&] {
+  return Guard(*context, frame_, "GetJob", [&] {
     *response = state_.queue.Get(RequireJobId(request->job_id()));
     if (response->has_render()) {
       for (const SceneFabric& fabric : RenderFabrics(response->render())) response->add_fabric_keys(fabric.key);
@@ -92,7 +92,7 @@ grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRe
 
 grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
                                   v1::ListJobsResponse* response) {
-  return Guard(*context, state_.client_token, "ListJobs", [&] {
+  return Guard(*context, frame_, "ListJobs", [&] {
     JobFilter filter;
     for (int i = 0; i < request->states_size(); ++i) {
       const int state = request->states(i);
@@ -131,7 +131,7 @@ grpc::Status JobService::ListJobs(grpc::ServerContext* context, const v1::ListJo
 
 grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
                                   grpc::ServerWriter<v1::JobEvent>* writer) {
-  return Guard(*context, state_.client_token, "WatchJob", [&] {
+  return Guard(*context, frame_, "WatchJob", [&] {
     const std::string& id = RequireJobId(request->job_id());
     int64_t next_line = 0;
     uint64_t version = state_.queue.Version();
@@ -155,7 +155,7 @@ grpc::Status JobService::WatchJob(grpc::ServerContext* context, const v1::WatchJ
 
 grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
                                    v1::Job* response) {
-  return Guard(*context, state_.client_token, "CancelJob", [&] {
+  return Guard(*context, frame_, "CancelJob", [&] {
     *response = state_.queue.Cancel(RequireJobId(request->job_id()));
     spdlog::info("job {}: cancel requested ({})", response->id(), v1::JobState_Name(response->state()));
   });
@@ -163,7 +163,7 @@ grpc::Status JobService::CancelJob(grpc::ServerContext* context, const v1::Cance
 
 grpc::Status JobService::SetJobPriority(grpc::ServerContext* context, const v1::SetJobPriorityRequest* request,
                                         v1::Job* response) {
-  return Guard(*context, state_.client_token, "SetJobPriority", [&] {
+  return Guard(*context, frame_, "SetJobPriority", [&] {
     *response = state_.queue.SetPriority(RequireJobId(request->job_id()), request->priority());
     spdlog::info("job {}: priority {}", response->id(), response->priority());
   });
@@ -171,7 +171,7 @@ grpc::Status JobService::SetJobPriority(grpc::ServerContext* context, const v1::
 
 grpc::Status JobService::RetryJobs(grpc::ServerContext* context, const v1::RetryJobsRequest* request,
                                    v1::RetryJobsResponse* response) {
-  return Guard(*context, state_.client_token, "RetryJobs", [&] {
+  return Guard(*context, frame_, "RetryJobs", [&] {
     if (state_.draining) throw Error(ErrorCode::kUnavailable, "the server is shutting down");
     const std::vector<std::string> ids = RequireJobIds(request->job_ids());
     // A render's or an animation's meshes were released when it ended: they must still be here, and
@@ -200,7 +200,7 @@ grpc::Status JobService::RetryJobs(grpc::ServerContext* context, const v1::Retry
 
 grpc::Status JobService::DeleteJobs(grpc::ServerContext* context, const v1::DeleteJobsRequest* request,
                                     v1::DeleteJobsResponse* response) {
-  return Guard(*context, state_.client_token, "DeleteJobs", [&] {
+  return Guard(*context, frame_, "DeleteJobs", [&] {
     uint32_t removed = 0;
     const std::vector<v1::Job> deleted = state_.queue.Delete(RequireJobIds(request->job_ids()));
     for (const v1::Job& job : deleted) {
@@ -225,7 +225,7 @@ grpc::Status JobService::DeleteJobs(grpc::ServerContext* context, const v1::Dele
 
 grpc::Status JobService::GetJobLog(grpc::ServerContext* context, const v1::GetJobLogRequest* request,
                                    v1::GetJobLogResponse* response) {
-  return Guard(*context, state_.client_token, "GetJobLog", [&] {
+  return Guard(*context, frame_, "GetJobLog", [&] {
     state_.queue.Get(RequireJobId(request->job_id()));  // kNotFound for an unknown id
     for (std::string& line : state_.queue.Log(request->job_id(), 0)) response->add_lines(std::move(line));
   });
@@ -233,7 +233,7 @@ grpc::Status JobService::GetJobLog(grpc::ServerContext* context, const v1::GetJo
 
 grpc::Status JobService::ListFabrics(grpc::ServerContext* context, const v1::ListFabricsRequest*,
                                      v1::ListFabricsResponse* response) {
-  return Guard(*context, state_.client_token, "ListFabrics", [&] {
+  return Guard(*context, frame_, "ListFabrics", [&] {
     for (const FabricEntry& entry : state_.cache.List()) *response->add_fabrics() = ToCachedFabric(entry);
     response->set_total_bytes(state_.artifacts.TotalBytes());
     response->set_budget_bytes(state_.artifacts.options().budget_bytes);
@@ -259,7 +259,7 @@ std::string JobService::ResolveFabricKey(const std::string& key_or_prefix) {
 
 grpc::Status JobService::GetFabric(grpc::ServerContext* context, const v1::GetFabricRequest* request,
                                    v1::GetFabricResponse* response) {
-  return Guard(*context, state_.client_token, "GetFabric", [&] {
+  return Guard(*context, frame_, "GetFabric", [&] {
     const std::string key = ResolveFabricKey(request->fabric_key());
     const std::optional<FabricEntry> entry = state_.cache.Get(key);
     if (!entry) {
@@ -272,7 +272,7 @@ grpc::Status JobService::GetFabric(grpc::ServerContext* context, const v1::GetFa
 
 grpc::Status JobService::DeleteFabric(grpc::ServerContext* context, const v1::DeleteFabricRequest* request,
                                       v1::DeleteFabricResponse*) {
-  return Guard(*context, state_.client_token, "DeleteFabric", [&] {
+  return Guard(*context, frame_, "DeleteFabric", [&] {
     const std::string key = ResolveFabricKey(request->fabric_key());
     state_.cache.Delete(key);
     spdlog::info("fabric {} deleted", key);
@@ -281,7 +281,7 @@ grpc::Status JobService::DeleteFabric(grpc::ServerContext* context, const v1::De
 
 grpc::Status JobService::PinFabric(grpc::ServerContext* context, const v1::PinFabricRequest* request,
                                    v1::PinFabricResponse* response) {
-  return Guard(*context, state_.client_token, "PinFabric", [&] {
+  return Guard(*context, frame_, "PinFabric", [&] {
     const std::string key = ResolveFabricKey(request->fabric_key());
     if (request->pinned()) state_.cache.Pin(key);
     else state_.cache.Unpin(key);
@@ -294,7 +294,7 @@ grpc::Status JobService::PinFabric(grpc::ServerContext* context, const v1::PinFa
 grpc::Status JobService::FindMissingArtifacts(grpc::ServerContext* context,
                                               const v1::FindMissingArtifactsRequest* request,
                                               v1::FindMissingArtifactsResponse* response) {
-  return Guard(*context, state_.client_token, "FindMissingArtifacts", [&] {
+  return Guard(*context, frame_, "FindMissingArtifacts", [&] {
     if (request->sha256_size() > kMaxFindMissingHashes) {
       throw Error(ErrorCode::kInvalidArgument, "sha256: " + std::to_string(request->sha256_size()) +
                                                    " hashes exceed " + std::to_string(kMaxFindMissingHashes) +
@@ -312,7 +312,7 @@ grpc::Status JobService::FindMissingArtifacts(grpc::ServerContext* context,
 grpc::Status JobService::UploadArtifact(grpc::ServerContext* context,
                                         grpc::ServerReader<v1::UploadArtifactRequest>* reader,
                                         v1::UploadArtifactResponse* response) {
-  return Guard(*context, state_.client_token, "UploadArtifact", [&] {
+  return Guard(*context, frame_, "UploadArtifact", [&] {
     *response->mutable_artifact() =
         ReceiveUpload(*reader, state_.artifacts, kMaxMeshUploadBytes, [](const v1::UploadArtifactRequest::Header& h) {
           if (!h.job_id().empty() || h.fencing_token() != 0) {
@@ -324,13 +324,13 @@ grpc::Status JobService::UploadArtifact(grpc::ServerContext* context,
 
 grpc::Status JobService::DownloadArtifact(grpc::ServerContext* context, const v1::DownloadArtifactRequest* request,
                                           grpc::ServerWriter<v1::ArtifactChunk>* writer) {
-  return Guard(*context, state_.client_token, "DownloadArtifact",
+  return Guard(*context, frame_, "DownloadArtifact",
                [&] { SendStoredArtifact(state_.artifacts, request->sha256(), *writer); });
 }
 
 grpc::Status JobService::GetServerInfo(grpc::ServerContext* context, const v1::GetServerInfoRequest*,
                                        v1::ServerInfo* response) {
-  return Guard(*context, state_.client_token, "GetServerInfo", [&] {
+  return Guard(*context, frame_, "GetServerInfo", [&] {
     const QueueDepth depth = state_.queue.Depth();
     response->set_version(kVersion);
     response->set_health(state_.draining ? "draining" : "serving");
@@ -346,7 +346,7 @@ grpc::Status JobService::GetServerInfo(grpc::ServerContext* context, const v1::G
 
 grpc::Status JobService::ListWorkers(grpc::ServerContext* context, const v1::ListWorkersRequest*,
                                      v1::ListWorkersResponse* response) {
-  return Guard(*context, state_.client_token, "ListWorkers", [&] {
+  return Guard(*context, frame_, "ListWorkers", [&] {
     for (v1::WorkerInfo& info : state_.workers.List(state_.queue.options().lease_duration_ms)) {
       *response->add_workers() = std::move(info);
     }

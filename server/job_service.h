@@ -3,6 +3,7 @@
 // the store. Every handler checks the client token (server/call_guard.h).
 
 #include "loom/v1/service.grpc.pb.h"
+#include "server/call_guard.h"
 #include "server/service_state.h"
 
 namespace loom::server {
@@ -21,7 +22,7 @@ inline constexpr int kMaxJobIdsPerCall = 1000;
 
 class JobService final : public v1::LoomService::Service {
  public:
-  explicit JobService(ServiceState& state) : state_(state) {}
+  explicit JobService(ServiceState& state) : state_(state), frame_{"LoomService", state.client_token, state.metrics} {}
 
   grpc::Status SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
                          v1::SubmitJobResponse* response) override;
@@ -67,6 +68,7 @@ class JobService final : public v1::LoomService::Service {
   std::string ResolveFabricKey(const std::string& key_or_prefix);
 
   ServiceState& state_;
+  const CallFrame frame_;
 };
 
 // The cache entry as the API shows it.

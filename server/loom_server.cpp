@@ -11,6 +11,8 @@
 #include "core/util/file_io.h"
 #include "rpc/channel.h"
 #include "server/http_gateway.h"
+#include "server/http_serving.h"
+#include "server/metrics_endpoint.h"
 #include "server/job_service.h"
 #include "server/refusal_log.h"
 #include "server/worker_service.h"
@@ -33,6 +35,8 @@ void CheckOptions(const ServerOptions& options) {
     throw Error(ErrorCode::kInvalidArgument, "--http " + options.http_listen +
                                                  ": without token files the server listens on loopback only");
   }
+  if (!options.http_listen.empty()) ParseHostPort("--http", options.http_listen);
+  if (!options.metrics_listen.empty()) ParseHostPort("--metrics", options.metrics_listen);
   if (options.tls_cert_file.empty() != options.tls_key_file.empty()) {
     throw Error(ErrorCode::kInvalidArgument, "--tls-cert and --tls-key go together");
   }
@@ -123,6 +127,10 @@ LoomServer::LoomServer(ServerOptions options) : options_(std::move(options)) {
         server_->experimental().InProcessChannelWithInterceptors(arguments, rpc::TokenInterceptors("")));
   }
 
+  if (!options_.metrics_listen.empty()) {
+    metrics_ = std::make_unique<MetricsEndpoint>(options_.metrics_listen, store_->state);
+  }
+
   timer_ = std::thread([this] { TimerLoop(); });
   for (int i = 0; i < options_.local_workers; ++i) {
     worker::WorkerOptions worker_options = options_.local_worker;
@@ -145,6 +153,8 @@ LoomServer::~LoomServer() { Shutdown(); }
 std::string LoomServer::address() const { return "127.0.0.1:" + std::to_string(port_); }
 
 int LoomServer::http_port() const { return http_ ? http_->port() : 0; }
+
+int LoomServer::metrics_port() const { return metrics_ ? metrics_->port() : 0; }
 
 void LoomServer::TimerLoop() {
   // Result retention is kept to the minute: each pass reads every pinned job.
@@ -179,6 +189,7 @@ void LoomServer::Shutdown() {
   for (std::thread& thread : worker_threads_) thread.join();
   store_->queue.Shutdown();
   if (http_) http_->Stop();
+  if (metrics_) metrics_->Stop();
   server_->Shutdown(std::chrono::system_clock::now() + 5s);
   wake_.notify_all();
   timer_.join();

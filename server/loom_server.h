@@ -9,7 +9,7 @@
 //
 // Shutdown order: stop taking jobs (health "draining"), stop the local workers
 // (renders finish, precomputes are handed back), wake long polls, stop the
-// dashboard, the gRPC server, then the timer. Jobs still leased by remote workers stay leased in the
+// dashboard and the metrics endpoint, the gRPC server, then the timer. Jobs still leased by remote workers stay leased in the
 // queue; the next start requeues them (server/store/job_queue.h).
 
 #include <condition_variable>
@@ -30,6 +30,7 @@ class Server;
 namespace loom::server {
 
 class HttpGateway;
+class MetricsEndpoint;
 
 struct ServerOptions {
   std::filesystem::path data_dir;
@@ -56,6 +57,9 @@ struct ServerOptions {
   // loopback rule as `listen` without tokens), HTTPS with the TLS files; "" none.
   std::string http_listen;
   std::filesystem::path web_root;  // the built dashboard (web/dist)
+  // GET /metrics for Prometheus on host:port (server/metrics_endpoint.h; port 0
+  // picks one), plain HTTP without a token; "" none.
+  std::string metrics_listen;
   worker::WorkerOptions local_worker;
 };
 
@@ -72,8 +76,9 @@ class LoomServer {
   // The bound port (the chosen one for port 0) and a loopback address to reach it.
   int port() const { return port_; }
   std::string address() const;
-  // The dashboard's bound port, 0 without one.
+  // The dashboard's and the metrics endpoint's bound ports, 0 without one.
   int http_port() const;
+  int metrics_port() const;
 
   // Graceful stop (see above); idempotent.
   void Shutdown();
@@ -87,6 +92,7 @@ class LoomServer {
   std::unique_ptr<grpc::Server> server_;
   int port_ = 0;
   std::unique_ptr<HttpGateway> http_;
+  std::unique_ptr<MetricsEndpoint> metrics_;
   std::vector<std::unique_ptr<worker::WorkerLoop>> workers_;
   std::vector<std::thread> worker_threads_;
   std::thread timer_;

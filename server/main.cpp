@@ -77,6 +77,9 @@ int Main(int argc, char** argv) {
   app.add_option("--http", options.http_listen,
                  "Serve the web dashboard on this address (host:port; port 0 picks one), behind the client token, "
                  "over HTTPS with --tls-cert (docs/dashboard.md)");
+  app.add_option("--metrics", options.metrics_listen,
+                 "Serve GET /metrics for Prometheus on this address (host:port; port 0 picks one): plain HTTP "
+                 "without a token, for a cluster-internal port (docs/operations.md \"Metrics\")");
   options.web_root = LOOM_WEB_ROOT;
   app.add_option("--web-root", options.web_root, "The built dashboard's files (web/dist)")->capture_default_str();
   app.add_flag("--software", software, "Local workers use Mesa's software device (llvmpipe) even with a GPU");

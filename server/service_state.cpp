@@ -88,8 +88,13 @@ ServiceState::ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCach
     : queue(queue), artifacts(artifacts), cache(cache), clock(clock), client_token(std::move(client_token)),
       worker_token(std::move(worker_token)), tls(tls), started_ms(clock.NowMs()), workers(clock),
       parse_slots(parse_slots) {
-  queue.OnJobEnded([&artifacts](const std::string& id, v1::JobKind kind) {
-    if (kind == v1::JOB_KIND_RENDER || kind == v1::JOB_KIND_ANIMATE) artifacts.UnpinAll(JobPinOwner(id));
+  queue.OnJobEnded([this](const std::string& id, v1::JobKind kind) {
+    if (kind == v1::JOB_KIND_RENDER || kind == v1::JOB_KIND_ANIMATE) this->artifacts.UnpinAll(JobPinOwner(id));
+    try {
+      metrics.ObserveJobEnded(this->queue.Get(id));
+    } catch (const Error& error) {
+      if (error.code() != ErrorCode::kNotFound) throw;  // deleted meanwhile: nothing to observe
+    }
   });
 }
 

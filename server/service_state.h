@@ -12,6 +12,7 @@
 #include "core/scene/mesh_sequence_cache.h"
 #include "loom/v1/service.pb.h"
 #include "server/parse_slots.h"
+#include "server/server_metrics.h"
 #include "server/store/artifact_store.h"
 #include "server/store/fabric_cache.h"
 #include "server/store/job_queue.h"
@@ -43,7 +44,7 @@ class WorkerRegistry {
 
 struct ServiceState {
   // Listens to the queue's job endings: a render job's mesh pins are released
-  // however the job ends.
+  // however the job ends, and the job's times go to the metrics.
   ServiceState(JobQueue& queue, ArtifactStore& artifacts, FabricCache& cache, const Clock& clock,
                std::string client_token, std::string worker_token, bool tls, int parse_slots = 2);
 
@@ -62,6 +63,8 @@ struct ServiceState {
   // …and takes a glTF sequence's frames from here once it has read the sequence.
   MeshSequenceCache sequences;
   std::atomic<bool> draining{false};
+  // Observes every RPC (call_guard.h) and every job's end; served by --metrics.
+  ServerMetrics metrics;
   // --result-retention-seconds: how long a finished render's frames are kept from
   // eviction after the job ends (0: not at all, they are ordinary cache entries).
   int64_t result_retention_ms = 86'400'000;

@@ -23,7 +23,7 @@ void AppendLog(JobQueue& queue, const std::string& id, const google::protobuf::R
 
 grpc::Status WorkerService::RegisterWorker(grpc::ServerContext* context, const v1::RegisterWorkerRequest* request,
                                            v1::RegisterWorkerResponse* response) {
-  return Guard(*context, state_.worker_token, "RegisterWorker", [&] {
+  return Guard(*context, frame_, "RegisterWorker", [&] {
     response->set_worker_id(state_.workers.Register(request->capabilities()));
     state_.queue.WorkerSeen(response->worker_id());
     // Two heartbeats may be lost before the lease expires.
@@ -54,7 +54,7 @@ bool WorkerService::ResolveFabrics(const JobLease& lease, v1::LeaseJobResponse& 
 
 grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::LeaseJobRequest* request,
                                      v1::LeaseJobResponse* response) {
-  return Guard(*context, state_.worker_token, "LeaseJob", [&] {
+  return Guard(*context, frame_, "LeaseJob", [&] {
     if (request->worker_id().empty()) throw Error(ErrorCode::kInvalidArgument, "worker_id: is empty (RegisterWorker)");
     // A restarted server has forgotten its workers: they register again (NOT_FOUND
     // tells them to, worker/worker_loop.h).
@@ -96,7 +96,7 @@ grpc::Status WorkerService::LeaseJob(grpc::ServerContext* context, const v1::Lea
 
 grpc::Status WorkerService::Heartbeat(grpc::ServerContext* context, const v1::HeartbeatRequest* request,
                                       v1::HeartbeatResponse* response) {
-  return Guard(*context, state_.worker_token, "Heartbeat", [&] {
+  return Guard(*context, frame_, "Heartbeat", [&] {
     const HeartbeatStatus status = state_.queue.Heartbeat(request->job_id(), request->fencing_token(),
                                                           request->progress().fraction(), request->progress().stage());
     switch (status) {
@@ -113,7 +113,7 @@ grpc::Status WorkerService::Heartbeat(grpc::ServerContext* context, const v1::He
 grpc::Status WorkerService::UploadArtifact(grpc::ServerContext* context,
                                            grpc::ServerReader<v1::UploadArtifactRequest>* reader,
                                            v1::UploadArtifactResponse* response) {
-  return Guard(*context, state_.worker_token, "UploadArtifact", [&] {
+  return Guard(*context, frame_, "UploadArtifact", [&] {
     *response->mutable_artifact() = ReceiveUpload(
         *reader, state_.artifacts, kMaxWorkerUploadBytes,
         [this](const v1::UploadArtifactRequest::Header& header) {
@@ -125,13 +125,13 @@ grpc::Status WorkerService::UploadArtifact(grpc::ServerContext* context,
 grpc::Status WorkerService::DownloadArtifact(grpc::ServerContext* context,
                                              const v1::DownloadArtifactRequest* request,
                                              grpc::ServerWriter<v1::ArtifactChunk>* writer) {
-  return Guard(*context, state_.worker_token, "DownloadArtifact",
+  return Guard(*context, frame_, "DownloadArtifact",
                [&] { SendStoredArtifact(state_.artifacts, request->sha256(), *writer); });
 }
 
 grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::CompleteJobRequest* request,
                                         v1::CompleteJobResponse*) {
-  return Guard(*context, state_.worker_token, "CompleteJob", [&] {
+  return Guard(*context, frame_, "CompleteJob", [&] {
     const std::string& id = request->job_id();
     state_.queue.CheckLease(id, request->fencing_token());
     const v1::Job job = state_.queue.Get(id);
@@ -176,7 +176,7 @@ grpc::Status WorkerService::CompleteJob(grpc::ServerContext* context, const v1::
 
 grpc::Status WorkerService::FailJob(grpc::ServerContext* context, const v1::FailJobRequest* request,
                                     v1::FailJobResponse*) {
-  return Guard(*context, state_.worker_token, "FailJob", [&] {
+  return Guard(*context, frame_, "FailJob", [&] {
     state_.queue.CheckLease(request->job_id(), request->fencing_token());
     AppendLog(state_.queue, request->job_id(), request->log_lines());
     const Failure failure =

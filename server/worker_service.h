@@ -4,6 +4,7 @@
 // handler checks the worker token (server/call_guard.h).
 
 #include "loom/v1/service.grpc.pb.h"
+#include "server/call_guard.h"
 #include "server/service_state.h"
 
 namespace loom::server {
@@ -15,7 +16,8 @@ inline constexpr uint32_t kMaxLeaseWaitMs = 60'000;
 
 class WorkerService final : public v1::WorkerService::Service {
  public:
-  explicit WorkerService(ServiceState& state) : state_(state) {}
+  explicit WorkerService(ServiceState& state)
+      : state_(state), frame_{"WorkerService", state.worker_token, state.metrics} {}
 
   grpc::Status RegisterWorker(grpc::ServerContext* context, const v1::RegisterWorkerRequest* request,
                               v1::RegisterWorkerResponse* response) override;
@@ -38,6 +40,7 @@ class WorkerService final : public v1::WorkerService::Service {
   bool ResolveFabrics(const JobLease& lease, v1::LeaseJobResponse& response);
 
   ServiceState& state_;
+  const CallFrame frame_;
 };
 
 }  // namespace loom::server

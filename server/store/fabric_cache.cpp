@@ -124,7 +124,10 @@ std::optional<FabricEntry> FabricCache::Get(const std::string& key) {
     std::lock_guard lock(artifacts_.mu_);
     entry = FindLocked(key);
   }
-  if (!entry) return std::nullopt;
+  if (!entry) {
+    ++misses_;
+    return std::nullopt;
+  }
   bool intact = true;
   for (const FabricFile& file : entry->files) intact = artifacts_.Verify(file.hash) && intact;
 
@@ -134,6 +137,7 @@ std::optional<FabricEntry> FabricCache::Get(const std::string& key) {
   if (!intact) {
     DeleteLocked(key);
     txn.Commit();
+    ++broken_;
     return std::nullopt;
   }
   db.Run(std::string("UPDATE fabrics SET last_used_ms = ?, use_seq = ") + kNextUse + " WHERE key = ?",
@@ -141,8 +145,11 @@ std::optional<FabricEntry> FabricCache::Get(const std::string& key) {
   for (const FabricFile& file : entry->files) artifacts_.TouchLocked(file.hash);
   entry = FindLocked(key);  // as it is now (a concurrent Delete or Put may have won)
   txn.Commit();
+  ++(entry ? hits_ : misses_);
   return entry;
 }
+
+CacheLookups FabricCache::Lookups() const { return {hits_.load(), misses_.load(), broken_.load()}; }
 
 std::vector<FabricEntry> FabricCache::List() {
   std::lock_guard lock(artifacts_.mu_);

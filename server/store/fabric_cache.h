@@ -16,6 +16,7 @@
 // Bad keys (not 64 lowercase hex digits, like FabricKey's output) are
 // kInvalidArgument. Thread-safe.
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -42,6 +43,13 @@ struct FabricEntry {
   int64_t last_used_ms = 0;
 };
 
+// Get's answers since the cache was opened (this process only; for metrics).
+struct CacheLookups {
+  int64_t hits = 0;
+  int64_t misses = 0;  // not cached
+  int64_t broken = 0;  // cached, but a file was missing or corrupt: evicted
+};
+
 class FabricCache {
  public:
   // `artifacts` and `clock` must outlive the cache.
@@ -62,6 +70,8 @@ class FabricCache {
   // Every entry, most recently used first. No verification, recency unchanged.
   std::vector<FabricEntry> List();
 
+  CacheLookups Lookups() const;
+
   // Unknown key: kNotFound. Delete removes even a pinned fabric (an explicit request).
   void Delete(const std::string& key);
   void Pin(const std::string& key);
@@ -80,6 +90,7 @@ class FabricCache {
 
   ArtifactStore& artifacts_;
   const Clock& clock_;
+  std::atomic<int64_t> hits_{0}, misses_{0}, broken_{0};
 };
 
 }  // namespace loom::server

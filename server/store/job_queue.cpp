@@ -208,9 +208,13 @@ struct JobQueue::Row {
 // it rolls back and leaves the queue as it was.
 class JobQueue::Txn {
  public:
-  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) { queue_.ended_.clear(); }
+  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) {
+    queue_.ended_.clear();
+    queue_.pending_ = {};
+  }
   void Commit() {
     txn_.Commit();
+    queue_.counters_ += std::exchange(queue_.pending_, {});
     queue_.changed_.notify_all();
     auto ended = std::exchange(queue_.ended_, {});
     const auto listener = queue_.on_ended_;
@@ -404,7 +408,17 @@ v1::Job JobQueue::InsertJob(const v1::Job& job, int64_t now_ms) {
 }
 
 // A lease ended without success: requeue, or end the job if it cannot go on.
+QueueCounters& QueueCounters::operator+=(const QueueCounters& other) {
+  leases += other.leases;
+  lease_expiries += other.lease_expiries;
+  stuck_leases += other.stuck_leases;
+  failed_attempts += other.failed_attempts;
+  retries += other.retries;
+  return *this;
+}
+
 void JobQueue::EndAttempt(const Row& row, const std::string& error, int64_t now_ms) {
+  ++pending_.failed_attempts;
   const std::string attempt =
       "attempt " + std::to_string(row.attempts) + " of " + std::to_string(row.max_attempts);
   if (row.cancel_requested) {
@@ -418,6 +432,7 @@ void JobQueue::EndAttempt(const Row& row, const std::string& error, int64_t now_
         "WHERE seq = ?",
         static_cast<int>(v1::JOB_STATE_QUEUED), error, row.seq);
     WriteLog(row.seq, "[queue] " + attempt + " failed: " + error + "; requeued");
+    ++pending_.retries;
   }
 }
 
@@ -579,6 +594,7 @@ std::optional<JobLease> JobQueue::LeaseLocked(const std::string& worker_id) {
   const Row row = RequireRow(JobId(seq));
   WriteLog(seq, "[queue] leased by worker " + worker_id + " (attempt " + std::to_string(row.attempts) + " of " +
                     std::to_string(row.max_attempts) + ")");
+  ++pending_.leases;
   return JobLease{ToJob(row), token, deadline};
 }
 
@@ -717,6 +733,7 @@ int JobQueue::RequeueExpired() {
       static_cast<int>(v1::JOB_STATE_LEASED), static_cast<int>(v1::JOB_STATE_RUNNING), now,
       now - options_.stuck_after_ms);
   for (const Row& row : ended) {
+    ++(row.lease_deadline_ms <= now ? pending_.lease_expiries : pending_.stuck_leases);
     const std::string reason =
         row.lease_deadline_ms <= now
             ? "lease expired: worker " + row.worker_id + " sent no heartbeat for " +
@@ -898,17 +915,31 @@ JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string
 QueueDepth JobQueue::Depth() const {
   std::lock_guard lock(mu_);
   QueueDepth depth;
-  for (auto query = db_->Query("SELECT state, COUNT(*) FROM jobs GROUP BY state"); query.Step();) {
-    const int64_t state = query.Int(0);
-    if (state >= 0 && state < v1::JobState_ARRAYSIZE) depth.by_state[state] = query.Int(1);
+  const auto known = [](int64_t state, int64_t kind) {
+    return state >= 0 && state < v1::JobState_ARRAYSIZE && kind >= 0 && kind < v1::JobKind_ARRAYSIZE;
+  };
+  for (auto query = db_->Query("SELECT state, kind, COUNT(*) FROM jobs GROUP BY state, kind"); query.Step();) {
+    const int64_t state = query.Int(0), kind = query.Int(1), count = query.Int(2);
+    if (!known(state, kind)) continue;
+    depth.by_state[state] += count;
+    depth.by_state_kind[state][kind] = count;
   }
-  auto ready = db_->Query(
-      "SELECT COUNT(*) FROM jobs j WHERE state = ?1 AND NOT EXISTS (SELECT 1 FROM job_deps d "
-      "JOIN jobs p ON p.seq = d.dep_seq WHERE d.job_seq = j.seq AND p.state != ?2)",
-      static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED));
-  ready.Step();
-  depth.ready = ready.Int(0);
+  for (auto ready = db_->Query(
+           "SELECT kind, COUNT(*) FROM jobs j WHERE state = ?1 AND NOT EXISTS (SELECT 1 FROM job_deps d "
+           "JOIN jobs p ON p.seq = d.dep_seq WHERE d.job_seq = j.seq AND p.state != ?2) GROUP BY kind",
+           static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED));
+       ready.Step();) {
+    const int64_t kind = ready.Int(0), count = ready.Int(1);
+    if (!known(v1::JOB_STATE_QUEUED, kind)) continue;
+    depth.ready += count;
+    depth.ready_by_kind[kind] = count;
+  }
   return depth;
+}
+
+QueueCounters JobQueue::Counters() const {
+  std::lock_guard lock(mu_);
+  return counters_;
 }
 
 void JobQueue::AppendLog(const std::string& id, const std::string& line) {

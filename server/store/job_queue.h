@@ -105,8 +105,23 @@ struct JobPage {
 struct QueueDepth {
   std::array<int64_t, v1::JobState_ARRAYSIZE> by_state{};  // indexed by JobState
   int64_t ready = 0;  // QUEUED with every dependency SUCCEEDED: leasable now
+  // The same by kind: [state][kind] and [kind], indexed by JobState and JobKind.
+  std::array<std::array<int64_t, v1::JobKind_ARRAYSIZE>, v1::JobState_ARRAYSIZE> by_state_kind{};
+  std::array<int64_t, v1::JobKind_ARRAYSIZE> ready_by_kind{};
 
   int64_t Count(v1::JobState state) const { return by_state[state]; }
+};
+
+// What this queue did since it was opened, counted by this process only (for
+// metrics: several processes' counters add up).
+struct QueueCounters {
+  int64_t leases = 0;           // leases given
+  int64_t lease_expiries = 0;   // leases ended because no heartbeat came before the deadline
+  int64_t stuck_leases = 0;     // leases ended because progress stopped moving
+  int64_t failed_attempts = 0;  // attempts that failed: a worker's Fail, an expiry, stuck, a restart
+  int64_t retries = 0;          // failed attempts whose job was queued again for another
+
+  QueueCounters& operator+=(const QueueCounters& other);
 };
 
 class JobQueue {
@@ -232,6 +247,7 @@ class JobQueue {
                uint64_t max_bytes = 0) const;
 
   QueueDepth Depth() const;
+  QueueCounters Counters() const;
 
   // A job's log: lines appended by its workers and by the queue, numbered from 0,
   // capped as log_keep_bytes says. Log returns the lines numbered from `from_line`
@@ -309,6 +325,8 @@ class JobQueue {
   std::vector<std::pair<std::string, v1::JobKind>> unheard_;
   uint64_t version_ = 0;
   bool shutdown_ = false;
+  // Counted by the open Txn, added to counters_ once it commits.
+  QueueCounters pending_, counters_;
 };
 
 }  // namespace loom::server

@@ -62,12 +62,13 @@ TEST_F(ComposeTest, EveryServiceMatchesTheCode) {
   }
 }
 
-TEST_F(ComposeTest, PublishedPortsAreTheServersPortAndItsDashboards) {
+TEST_F(ComposeTest, PublishedPortsAreTheServersPortItsDashboardsAndItsMetrics) {
   const int port = DefaultServerPort();
   const std::vector<std::string> command = Strings(compose_["services"]["loom-server"]["command"]);
   const std::optional<std::string> http = OptionValue(command, "--http");
-  ASSERT_TRUE(http);
-  const std::set<int> served = {port, SplitAddress(*http).port};
+  const std::optional<std::string> metrics = OptionValue(command, "--metrics");
+  ASSERT_TRUE(http && metrics);
+  const std::set<int> served = {port, SplitAddress(*http).port, SplitAddress(*metrics).port};
   int published = 0;
   for (const auto& service : compose_["services"]) {
     for (const std::string& mapping : Strings(service.second["ports"])) {
@@ -75,7 +76,7 @@ TEST_F(ComposeTest, PublishedPortsAreTheServersPortAndItsDashboards) {
       EXPECT_TRUE(served.contains(SplitAddress(mapping).port)) << service.first.as<std::string>() << ": " << mapping;
     }
   }
-  EXPECT_EQ(published, 2);
+  EXPECT_EQ(published, 3);
 }
 
 TEST_F(ComposeTest, SecretsUsedAreDefinedAndMounted) {

@@ -100,6 +100,12 @@ TEST_F(FabricCacheTest, CorruptArtifactEvictsTheWholeFabric) {
   // A recomputed asset can be cached again under the same key.
   EXPECT_EQ(PutFabric(Key('a'), 'a').files.size(), 3u);
   EXPECT_TRUE(cache_->Get(Key('a')).has_value());
+
+  // Gets counted: the broken one, the miss after it, then two hits.
+  const CacheLookups lookups = cache_->Lookups();
+  EXPECT_EQ(lookups.broken, 1);
+  EXPECT_EQ(lookups.misses, 1);
+  EXPECT_EQ(lookups.hits, 2);
 }
 
 TEST_F(FabricCacheTest, MissingArtifactEvictsTheWholeFabric) {

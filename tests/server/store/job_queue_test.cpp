@@ -801,6 +801,53 @@ TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
   EXPECT_EQ(depth.Count(v1::JOB_STATE_LEASED), 1);
   EXPECT_EQ(depth.Count(v1::JOB_STATE_CANCELLED), 1);
   EXPECT_EQ(depth.ready, 1);  // the render waiting on the precompute is not ready
+  // The same by kind.
+  EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_QUEUED][v1::JOB_KIND_RENDER], 2);
+  EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_QUEUED][v1::JOB_KIND_PRECOMPUTE], 0);
+  EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_LEASED][v1::JOB_KIND_PRECOMPUTE], 1);
+  EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_CANCELLED][v1::JOB_KIND_RENDER], 1);
+  EXPECT_EQ(depth.ready_by_kind[v1::JOB_KIND_RENDER], 1);
+  EXPECT_EQ(depth.ready_by_kind[v1::JOB_KIND_PRECOMPUTE], 0);
+}
+
+TEST_F(JobQueueTest, CountersCountLeasesExpiriesFailuresAndRetries) {
+  JobQueueOptions options;
+  options.default_max_attempts = 2;
+  Reopen(options);
+  const auto a = queue_->Submit(Render()).id();
+  const auto b = queue_->Submit(Render()).id();
+  const JobLease first = MustLease("w1");   // a, attempt 1
+  const JobLease second = MustLease("w2");  // b, attempt 1
+  queue_->Fail(first.job.id(), first.token, "crashed");  // a requeued: a retry
+  clock_.Advance(30'000);
+  EXPECT_EQ(queue_->RequeueExpired(), 1);  // b's lease expired: requeued, a retry
+  const JobLease third = MustLease("w3");
+  const JobLease fourth = MustLease("w3");
+  queue_->Fail(third.job.id(), third.token, "crashed again");  // its second attempt: FAILED, no retry
+  queue_->Complete(fourth.job.id(), fourth.token, {kHash});
+  // A stale report changes nothing, counters included.
+  EXPECT_LOOM_ERROR(queue_->Fail(second.job.id(), second.token, "late"), ErrorCode::kFailedPrecondition, "stale");
+
+  const QueueCounters counters = queue_->Counters();
+  EXPECT_EQ(counters.leases, 4);
+  EXPECT_EQ(counters.lease_expiries, 1);
+  EXPECT_EQ(counters.stuck_leases, 0);
+  EXPECT_EQ(counters.failed_attempts, 3);
+  EXPECT_EQ(counters.retries, 2);
+  EXPECT_EQ(queue_->Get(a).state(), v1::JOB_STATE_FAILED);
+  EXPECT_EQ(queue_->Get(b).state(), v1::JOB_STATE_SUCCEEDED);
+
+  // A job whose progress stops is a stuck lease, not an expiry.
+  const auto c = queue_->Submit(Render()).id();
+  const JobLease stuck = MustLease("w1");
+  for (int i = 0; i < 11; ++i) {  // heartbeats keep the lease, progress stays put for 330 s
+    clock_.Advance(30'000);
+    if (queue_->Heartbeat(c, stuck.token, 0.1, "fit") == HeartbeatStatus::kStaleToken) break;
+    queue_->RequeueExpired();
+  }
+  queue_->RequeueExpired();
+  EXPECT_EQ(queue_->Counters().stuck_leases, 1);
+  EXPECT_EQ(queue_->Counters().lease_expiries, 1);
 }
 
 TEST_F(JobQueueTest, BadInputIsRefusedAndNothingStoredChanges) {
