@@ -84,9 +84,6 @@ grpc::Status JobService::SubmitJob(grpc::ServerContext* context, const v1::Submi
 grpc::Status JobService::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) {
   return Guard(*context, frame_, "GetJob", [&] {
     *response = state_.queue.Get(RequireJobId(request->job_id()));
-    if (response->has_render()) {
-      for (const SceneFabric& fabric : RenderFabrics(response->render())) response->add_fabric_keys(fabric.key);
-    }
   });
 }
 

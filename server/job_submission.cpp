@@ -238,6 +238,7 @@ v1::SubmitJobResponse SubmitJob(const v1::SubmitJobRequest& request, JobQueue& q
     *job.mutable_render()->mutable_scene() = WithPlannedPrecompute(scene, full, geometry, cache, cached);
     full = WithDefaults(job.render().scene());
     for (const SceneFabric& fabric : SceneFabrics(full)) {
+      job.add_fabric_keys(fabric.key);
       if (cached.contains(fabric.key) || cache.Get(fabric.key)) continue;
       v1::Job dependency = SubmitFabricPrecompute(fabric, request.priority(), queue);
       job.add_depends_on(dependency.id());

@@ -77,7 +77,7 @@ CREATE TABLE IF NOT EXISTS leases (
 constexpr const char* kRowColumns =
     "seq, kind, state, priority, attempts, max_attempts, payload, client_request_id, fabric_key, "
     "progress_fraction, progress_stage, submitted_ms, started_ms, finished_ms, results, error, worker_id, "
-    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested, run_ms";
+    "lease_token, lease_deadline_ms, progress_moved_ms, cancel_requested, run_ms, fabric_keys";
 
 std::string JobId(int64_t seq) { return "job-" + std::to_string(seq); }
 
@@ -113,10 +113,21 @@ std::string PayloadBytes(const v1::Job& job) {
   return bytes;
 }
 
-std::string JoinLines(const std::vector<std::string>& lines) {
+// Lists stored in one column (result hashes, fabric keys), one per line.
+template <typename Strings>
+std::string JoinLines(const Strings& lines) {
   std::string joined;
-  for (const auto& line : lines) joined += (joined.empty() ? "" : "\n") + line;
+  for (const std::string& line : lines) joined += (joined.empty() ? "" : "\n") + line;
   return joined;
+}
+std::vector<std::string> SplitLines(const std::string& joined) {
+  std::vector<std::string> lines;
+  for (size_t begin = 0; begin < joined.size();) {
+    const size_t end = std::min(joined.find('\n', begin), joined.size());
+    lines.push_back(joined.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return lines;
 }
 
 // The error of a job whose dependency `id` ended in `state` (FAILED or CANCELLED).
@@ -159,6 +170,7 @@ struct JobQueue::Row {
   int64_t progress_moved_ms = 0;
   bool cancel_requested = false;
   double run_ms = 0;
+  std::string fabric_keys;  // a render's, one per line
 
   std::string id() const { return JobId(seq); }
   bool leased() const { return state == v1::JOB_STATE_LEASED || state == v1::JOB_STATE_RUNNING; }
@@ -198,6 +210,7 @@ struct JobQueue::Row {
     row.progress_moved_ms = s.Int(19);
     row.cancel_requested = s.Int(20) != 0;
     row.run_ms = s.Double(21);
+    row.fabric_keys = s.Text(22);
     return row;
   }
 };
@@ -247,6 +260,7 @@ JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, Jo
   db_->Exec("CREATE TEMP TABLE live_workers (worker_id TEXT PRIMARY KEY, seen_ms INTEGER NOT NULL)");
   AddColumnIfMissing(*db_, "jobs", "run_ms", "REAL NOT NULL DEFAULT 0");
   AddColumnIfMissing(*db_, "job_failed_workers", "failures", "INTEGER NOT NULL DEFAULT 1");
+  AddColumnIfMissing(*db_, "jobs", "fabric_keys", "TEXT NOT NULL DEFAULT ''");
   {
     auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
     max_version.Step();
@@ -310,11 +324,7 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   job.mutable_timings()->set_started_ms(row.started_ms);
   job.mutable_timings()->set_finished_ms(row.finished_ms);
   job.mutable_timings()->set_run_ms(row.run_ms);
-  for (size_t begin = 0; begin < row.results.size();) {
-    const size_t end = std::min(row.results.find('\n', begin), row.results.size());
-    job.add_result_artifacts(row.results.substr(begin, end - begin));
-    begin = end + 1;
-  }
+  for (std::string& hash : SplitLines(row.results)) job.add_result_artifacts(std::move(hash));
   job.set_error(row.error);
   job.set_client_request_id(row.client_request_id);
   for (auto deps = db_->Query("SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY rowid", row.seq);
@@ -322,6 +332,7 @@ v1::Job JobQueue::ToJob(const Row& row) const {
     job.add_depends_on(JobId(deps.Int(0)));
   }
   job.set_fabric_key(row.fabric_key);
+  for (std::string& key : SplitLines(row.fabric_keys)) job.add_fabric_keys(std::move(key));
   job.set_worker_id(row.worker_id);
   job.set_cancel_requested(row.cancel_requested);
   for (auto blocked = db_->Query("SELECT worker_id FROM job_failed_workers WHERE job_seq = ? AND failures >= ? "
@@ -390,9 +401,9 @@ v1::Job JobQueue::InsertJob(const v1::Job& job, int64_t now_ms) {
   const uint32_t max_attempts = job.max_attempts() ? job.max_attempts() : options_.default_max_attempts;
   auto insert = db_->Query(
       "INSERT INTO jobs (kind, state, priority, max_attempts, payload, client_request_id, fabric_key, "
-      "submitted_ms) VALUES (?, ?, ?, ?, ?, NULLIF(?, ''), ?, ?) RETURNING seq",
+      "fabric_keys, submitted_ms) VALUES (?, ?, ?, ?, ?, NULLIF(?, ''), ?, ?, ?) RETURNING seq",
       static_cast<int>(job.kind()), static_cast<int>(v1::JOB_STATE_QUEUED), job.priority(), max_attempts,
-      PayloadBytes(job), job.client_request_id(), job.fabric_key(), now_ms);
+      PayloadBytes(job), job.client_request_id(), job.fabric_key(), JoinLines(job.fabric_keys()), now_ms);
   insert.Step();
   const int64_t seq = insert.Int(0);
   insert.Run();

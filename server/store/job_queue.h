@@ -140,7 +140,7 @@ class JobQueue {
 
   // Adds a job. Read from `job`: kind and the matching payload (required),
   // priority, max_attempts (0: the default; at most 100), client_request_id,
-  // depends_on (existing job ids), fabric_key; every other field is the queue's.
+  // depends_on (existing job ids), fabric_key, fabric_keys; every other field is the queue's.
   // A client_request_id already used returns that job unchanged (idempotent retry);
   // reusing one for a different kind or payload is kInvalidArgument.
   // Unknown dependency: kNotFound. A dependency already FAILED/CANCELLED: the job is

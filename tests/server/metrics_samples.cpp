@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "core/util/file_io.h"
 
 namespace loom::server {
@@ -36,7 +38,10 @@ namespace {
 // Runs `promtool <command>` on `file_text` written to a file ("<" in `command`:
 // given on stdin).
 std::string RunPromtool(const std::string& command, const std::string& file_text) {
-  const auto file = std::filesystem::path(::testing::TempDir()) / "loom_promtool_input.yml";
+  // One file per call: ctest runs this binary's tests in parallel processes.
+  static int calls = 0;
+  const auto file = std::filesystem::path(::testing::TempDir()) /
+                    ("loom_promtool_" + std::to_string(::getpid()) + "_" + std::to_string(++calls) + ".yml");
   WriteFileAtomic(file, file_text);
   const std::string line = "promtool " + command + " '" + file.string() + "' 2>&1";
   FILE* pipe = popen(line.c_str(), "r");
@@ -45,6 +50,7 @@ std::string RunPromtool(const std::string& command, const std::string& file_text
   char buffer[4096];
   while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
   const int status = pclose(pipe);
+  std::filesystem::remove(file);
   if (status == 0) return "";
   return line + " exited " + std::to_string(status) + ": " + output;
 }
