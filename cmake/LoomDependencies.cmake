@@ -10,6 +10,7 @@ find_package(nlohmann_json REQUIRED)     # canonical (sorted-key) JSON for cache
 find_package(CLI11 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)  # the dashboard (server/http_gateway.h)
+pkg_check_modules(LIBPQ REQUIRED IMPORTED_TARGET libpq)  # PostgreSQL's client (server/store/pg_db.h)
 find_package(prometheus-cpp CONFIG REQUIRED)  # metrics for Prometheus (server/server_metrics.h)
 find_package(Eigen3 REQUIRED NO_MODULE)
 find_package(embree 3 REQUIRED)         # ray casting for acquisition

@@ -6,6 +6,7 @@
 #   scripts/setup.sh --no-build     install only
 #   scripts/setup.sh --with-browser also Chromium, for the dashboard's browser tests
 #   scripts/setup.sh --with-promtool also Prometheus's promtool, which checks /metrics
+#   scripts/setup.sh --with-postgresql also PostgreSQL's server, which the store's tests start
 #
 # Environment: BUILD_DIR (default build), BUILD_TYPE (default Release),
 #              JOBS (default: number of cores).
@@ -23,7 +24,7 @@ PACKAGES=(
   libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libegl1
   libembree-dev libsqlite3-dev libcli11-dev libglm-dev
   nlohmann-json3-dev libssl-dev
-  libyaml-cpp-dev libcpp-httplib-dev prometheus-cpp-dev
+  libyaml-cpp-dev libcpp-httplib-dev prometheus-cpp-dev libpq-dev
   libtinygltf-dev
   gnuplot-nox ffmpeg
   clang libclang-rt-14-dev
@@ -35,6 +36,7 @@ for argument in "$@"; do
     --no-build) NO_BUILD=1 ;;
     --with-browser) PACKAGES+=(chromium) ;;
     --with-promtool) PACKAGES+=(prometheus) ;;
+    --with-postgresql) PACKAGES+=(postgresql) ;;
     *) echo "setup.sh: unknown argument $argument" >&2; exit 2 ;;
   esac
 done
@@ -55,12 +57,15 @@ if ((${#missing[@]})); then
   if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-  # Debian's prometheus package starts its server where systemd runs; Loom's tests
-  # need only its promtool, so a server this script installed is stopped again.
-  if [[ " ${missing[*]} " == *" prometheus "* ]] && command -v systemctl >/dev/null &&
-    systemctl is-active --quiet prometheus 2>/dev/null; then
-    $SUDO systemctl disable --now prometheus
-  fi
+  # Debian's prometheus and postgresql packages start their servers where systemd
+  # runs; Loom's tests need only promtool and start PostgreSQL servers of their own,
+  # so a server this script installed is stopped again.
+  for service in prometheus postgresql; do
+    if [[ " ${missing[*]} " == *" $service "* ]] && command -v systemctl >/dev/null &&
+      systemctl is-active --quiet "$service" 2>/dev/null; then
+      $SUDO systemctl disable --now "$service"
+    fi
+  done
 else
   echo "loom setup: all ${#PACKAGES[@]} packages present"
 fi

@@ -1,0 +1,233 @@
+#include "server/store/pg_db.h"
+
+#include <fmt/format.h>
+#include <libpq-fe.h>
+#include <spdlog/spdlog.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+
+#include "core/util/error.h"
+
+namespace loom::server {
+namespace {
+
+constexpr Oid kByteaOid = 17;
+
+// The first line of a libpq message, without its trailing newline.
+std::string FirstLine(const char* message) {
+  std::string line = message ? message : "";
+  line = line.substr(0, line.find('\n'));
+  return line;
+}
+
+// "host:port/database" of a connection, for messages.
+std::string Where(const PGconn* conn) {
+  const char* host = PQhost(conn);
+  const char* port = PQport(conn);
+  const char* database = PQdb(conn);
+  return fmt::format("{}:{}/{}", host ? host : "", port ? port : "", database ? database : "");
+}
+
+int HexValue(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+}  // namespace
+
+PgParam ToPgParam(int64_t value) { return {std::to_string(value)}; }
+PgParam ToPgParam(double value) { return {fmt::format("{:.17g}", value)}; }
+PgParam ToPgParam(std::string_view text) { return {std::string(text)}; }
+PgParam ToPgParam(Blob blob) { return {std::string(blob.bytes), true}; }
+
+std::string ToPgPlaceholders(std::string_view sql) {
+  std::string out;
+  out.reserve(sql.size() + 8);
+  int next = 0;
+  char quote = 0;  // inside '…' or "…"
+  for (size_t i = 0; i < sql.size(); ++i) {
+    const char c = sql[i];
+    if (quote) {
+      out += c;
+      if (c == quote) quote = 0;  // a doubled quote closes and reopens: the same
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+      out += c;
+    } else if (c == '?') {
+      size_t end = i + 1;
+      while (end < sql.size() && std::isdigit(static_cast<unsigned char>(sql[end]))) ++end;
+      if (end > i + 1) {
+        out += '$';
+        out += sql.substr(i + 1, end - i - 1);
+        i = end - 1;
+      } else {
+        out += '$' + std::to_string(++next);
+      }
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+PgRows::PgRows(pg_result* result)
+    : result_(result), rows_(PQntuples(result)) {
+  const char* changed = PQcmdTuples(result);
+  if (changed && *changed) changes_ = std::strtoll(changed, nullptr, 10);
+}
+
+PgRows::PgRows(PgRows&& other) noexcept
+    : result_(other.result_), rows_(other.rows_), row_(other.row_), changes_(other.changes_) {
+  other.result_ = nullptr;
+}
+
+PgRows::~PgRows() {
+  if (result_) PQclear(result_);
+}
+
+bool PgRows::Step() { return ++row_ < rows_; }
+
+void PgRows::RequireRow(int column) const {
+  if (row_ < 0 || row_ >= rows_ || column < 0 || column >= PQnfields(result_)) {
+    throw Error(ErrorCode::kInternal, fmt::format("PostgreSQL: no row {} column {}", row_, column));
+  }
+}
+
+bool PgRows::IsNull(int column) const {
+  RequireRow(column);
+  return PQgetisnull(result_, row_, column);
+}
+
+int64_t PgRows::Int(int column) const {
+  if (IsNull(column)) return 0;
+  const char* text = PQgetvalue(result_, row_, column);
+  // A boolean reads as t/f.
+  if (text[0] == 't' || text[0] == 'f') return text[0] == 't';
+  return std::strtoll(text, nullptr, 10);
+}
+
+double PgRows::Double(int column) const {
+  if (IsNull(column)) return 0;
+  return std::strtod(PQgetvalue(result_, row_, column), nullptr);
+}
+
+std::string PgRows::Text(int column) const {
+  if (IsNull(column)) return "";
+  const char* text = PQgetvalue(result_, row_, column);
+  const int length = PQgetlength(result_, row_, column);
+  if (PQftype(result_, column) != kByteaOid) return std::string(text, length);
+  // bytea in text form: "\x" and two hex digits a byte.
+  std::string bytes;
+  if (length < 2 || text[0] != '\\' || text[1] != 'x') {
+    throw Error(ErrorCode::kInternal, "PostgreSQL: a bytea column not in hex form");
+  }
+  bytes.reserve((length - 2) / 2);
+  for (int i = 2; i + 1 < length; i += 2) {
+    bytes += static_cast<char>(HexValue(text[i]) * 16 + HexValue(text[i + 1]));
+  }
+  return bytes;
+}
+
+PgDb::PgDb(const std::string& conninfo) {
+  conn_ = PQconnectdb(conninfo.c_str());
+  if (!conn_) throw Error(ErrorCode::kUnavailable, "PostgreSQL: out of memory connecting");
+  where_ = Where(conn_);
+  if (PQstatus(conn_) != CONNECTION_OK) {
+    const std::string message = FirstLine(PQerrorMessage(conn_));
+    PQfinish(conn_);
+    conn_ = nullptr;
+    throw Error(ErrorCode::kUnavailable, "PostgreSQL at " + where_ + ": cannot connect: " + message);
+  }
+  PQsetNoticeProcessor(
+      conn_, [](void*, const char* message) { spdlog::debug("PostgreSQL: {}", FirstLine(message)); }, nullptr);
+  SetUpSession();
+}
+
+void PgDb::SetUpSession() {
+  // The store's statements are short; a lock held by a stuck server must not hang
+  // every other.
+  Exec("SET lock_timeout = '30s'; SET client_min_messages = warning");
+}
+
+void PgDb::Reconnect() {
+  if (PQstatus(conn_) == CONNECTION_OK && !broken_) return;
+  PQreset(conn_);
+  if (PQstatus(conn_) != CONNECTION_OK) {
+    throw Error(ErrorCode::kUnavailable,
+                "PostgreSQL at " + where_ + ": connection lost: " + FirstLine(PQerrorMessage(conn_)));
+  }
+  broken_ = false;
+  SetUpSession();
+}
+
+PgDb::~PgDb() {
+  if (conn_) PQfinish(conn_);
+}
+
+void PgDb::Fail(pg_result* result, std::string_view sql) {
+  const char* state = result ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
+  const std::string message = FirstLine(result ? PQresultErrorMessage(result) : PQerrorMessage(conn_));
+  const std::string sqlstate = state ? state : "";
+  if (result) PQclear(result);
+  const std::string what = fmt::format("PostgreSQL at {}: {} (in: {})", where_, message, sql.substr(0, 200));
+  // No SQLSTATE, 57P01 admin_shutdown or 08xxx: the failure was the connection's,
+  // not the statement's; the next statement reconnects.
+  if (PQstatus(conn_) != CONNECTION_OK || sqlstate.empty() || sqlstate == "57P01" || sqlstate.starts_with("08")) {
+    broken_ = true;
+    throw Error(ErrorCode::kUnavailable, what);
+  }
+  // 40001 serialization_failure, 40P01 deadlock_detected, 55P03 lock_not_available:
+  // try again.
+  if (sqlstate == "40001" || sqlstate == "40P01" || sqlstate == "55P03") {
+    throw Error(ErrorCode::kUnavailable, what);
+  }
+  throw Error(ErrorCode::kInternal, what);
+}
+
+void PgDb::Exec(std::string_view sql) {
+  Reconnect();
+  const std::string text(sql);
+  pg_result* result = PQexec(conn_, text.c_str());
+  const ExecStatusType status = result ? PQresultStatus(result) : PGRES_FATAL_ERROR;
+  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) Fail(result, sql);
+  PQclear(result);
+}
+
+PgRows PgDb::Execute(std::string_view sql, const std::vector<PgParam>& params) {
+  Reconnect();
+  const std::string text = ToPgPlaceholders(sql);
+  std::vector<const char*> values(params.size());
+  std::vector<int> lengths(params.size()), formats(params.size());
+  for (size_t i = 0; i < params.size(); ++i) {
+    values[i] = params[i].value ? params[i].value->data() : nullptr;
+    lengths[i] = params[i].value ? static_cast<int>(params[i].value->size()) : 0;
+    formats[i] = params[i].binary ? 1 : 0;
+  }
+  pg_result* result = PQexecParams(conn_, text.c_str(), static_cast<int>(params.size()), nullptr, values.data(),
+                                   lengths.data(), formats.data(), /*resultFormat=*/0);
+  const ExecStatusType status = result ? PQresultStatus(result) : PGRES_FATAL_ERROR;
+  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) Fail(result, sql);
+  return PgRows(result);
+}
+
+PgDb::Transaction::Transaction(PgDb& db) : db_(db) { db_.Exec("BEGIN"); }
+
+PgDb::Transaction::~Transaction() {
+  if (done_) return;
+  try {
+    db_.Exec("ROLLBACK");
+  } catch (const Error&) {
+    // The connection is gone: so is the transaction.
+  }
+}
+
+void PgDb::Transaction::Commit() {
+  db_.Exec("COMMIT");
+  done_ = true;
+}
+
+}  // namespace loom::server
