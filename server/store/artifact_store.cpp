@@ -181,7 +181,7 @@ void ArtifactStore::AddCommitted(const std::filesystem::path& temp_path, const s
   }
   // Row first, rename before the commit: both happen under mu_, and a crash in
   // between leaves at worst a row without a file, which Has() and Open forget.
-  SqliteDb::Transaction txn(*db_);
+  SqlDb::Transaction txn(*db_);
   db_->Run(std::string("INSERT OR REPLACE INTO artifacts (hash, size, use_seq) VALUES (?, ?, ") + kNextUse + ")",
            hash, size);
   const auto path = PathOf(hash);

@@ -33,7 +33,7 @@
 
 namespace loom::server {
 
-class SqliteDb;
+class SqlDb;
 class ArtifactStore;
 
 // Throws kInvalidArgument unless `hash` is 64 lowercase hex digits. `what` names
@@ -148,7 +148,7 @@ class ArtifactStore {
   const std::filesystem::path artifacts_dir_;
   const std::filesystem::path tmp_dir_;
   std::mutex mu_;
-  std::unique_ptr<SqliteDb> db_;
+  std::unique_ptr<SqlDb> db_;
   uint64_t next_temp_ = 0;
 };
 

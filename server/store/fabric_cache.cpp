@@ -51,7 +51,7 @@ FabricCache::FabricCache(ArtifactStore& artifacts, const Clock& clock) : artifac
 }
 
 std::optional<FabricEntry> FabricCache::FindLocked(const std::string& key) {
-  SqliteDb& db = *artifacts_.db_;
+  SqlDb& db = *artifacts_.db_;
   auto row = db.Query("SELECT manifest_json, pinned, created_ms, last_used_ms FROM fabrics WHERE key = ?", key);
   if (!row.Step()) return std::nullopt;
   FabricEntry entry;
@@ -72,7 +72,7 @@ std::optional<FabricEntry> FabricCache::FindLocked(const std::string& key) {
 }
 
 void FabricCache::DeleteLocked(const std::string& key) {
-  SqliteDb& db = *artifacts_.db_;
+  SqlDb& db = *artifacts_.db_;
   std::vector<std::string> hashes;
   for (auto files = db.Query("SELECT hash FROM fabric_files WHERE key = ?", key); files.Step();) {
     hashes.push_back(files.Text(0));
@@ -89,8 +89,8 @@ FabricEntry FabricCache::Put(const std::string& key, const std::vector<FabricFil
   CheckArtifactHash(key, "fabric key");
   CheckFiles(files);
   std::lock_guard lock(artifacts_.mu_);
-  SqliteDb& db = *artifacts_.db_;
-  SqliteDb::Transaction txn(db);
+  SqlDb& db = *artifacts_.db_;
+  SqlDb::Transaction txn(db);
   for (const FabricFile& file : files) {
     if (!artifacts_.HasLocked(file.hash)) {
       throw Error(ErrorCode::kNotFound, "fabric file " + file.name + ": artifact " + file.hash +
@@ -132,8 +132,8 @@ std::optional<FabricEntry> FabricCache::Get(const std::string& key) {
   for (const FabricFile& file : entry->files) intact = artifacts_.Verify(file.hash) && intact;
 
   std::lock_guard lock(artifacts_.mu_);
-  SqliteDb& db = *artifacts_.db_;
-  SqliteDb::Transaction txn(db);
+  SqlDb& db = *artifacts_.db_;
+  SqlDb::Transaction txn(db);
   if (!intact) {
     DeleteLocked(key);
     txn.Commit();
@@ -163,7 +163,7 @@ std::vector<FabricEntry> FabricCache::List() {
 void FabricCache::Delete(const std::string& key) {
   CheckArtifactHash(key, "fabric key");
   std::lock_guard lock(artifacts_.mu_);
-  SqliteDb::Transaction txn(*artifacts_.db_);
+  SqlDb::Transaction txn(*artifacts_.db_);
   if (!FindLocked(key)) throw Error(ErrorCode::kNotFound, "fabric " + key + " is not cached");
   DeleteLocked(key);
   txn.Commit();
@@ -184,8 +184,8 @@ std::vector<std::string> FabricCache::Evict() {
   std::vector<std::string> evicted_fabrics;
   if (artifacts_.options().budget_bytes == 0) return evicted_fabrics;
   std::lock_guard lock(artifacts_.mu_);
-  SqliteDb& db = *artifacts_.db_;
-  SqliteDb::Transaction txn(db);
+  SqlDb& db = *artifacts_.db_;
+  SqlDb::Transaction txn(db);
   std::vector<std::string> evicted_artifacts;
   artifacts_.EvictLocked(evicted_artifacts);
   while (artifacts_.TotalBytesLocked() > artifacts_.options().budget_bytes) {

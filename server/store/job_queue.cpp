@@ -139,7 +139,7 @@ std::string Seconds(int64_t ms) { return std::to_string(ms / 1000) + " s"; }
 
 // Columns added after a table's first release: a data directory made by an older
 // server gains them when opened (CREATE TABLE IF NOT EXISTS leaves it as it was).
-void AddColumnIfMissing(SqliteDb& db, const std::string& table, const std::string& column,
+void AddColumnIfMissing(SqlDb& db, const std::string& table, const std::string& column,
                         const std::string& definition) {
   auto found = db.Query("SELECT COUNT(*) FROM pragma_table_info(?) WHERE name = ?", table, column);
   found.Step();
@@ -177,7 +177,7 @@ struct JobQueue::Row {
 
   // Rows of `jobs` matching `where` (SQL after FROM jobs), bound to `args`.
   template <typename... Args>
-  static std::vector<Row> Select(SqliteDb& db, std::string_view where, const Args&... args) {
+  static std::vector<Row> Select(SqlDb& db, std::string_view where, const Args&... args) {
     std::vector<Row> rows;
     for (auto query = db.Query(std::string("SELECT ") + kRowColumns + " FROM jobs " + std::string(where), args...);
          query.Step();) {
@@ -186,7 +186,7 @@ struct JobQueue::Row {
     return rows;
   }
 
-  static Row Read(const Statement& s) {
+  static Row Read(const SqlQuery& s) {
     Row row;
     row.seq = s.Int(0);
     row.kind = static_cast<v1::JobKind>(s.Int(1));
@@ -241,7 +241,7 @@ class JobQueue::Txn {
  private:
   JobQueue& queue_;
   std::unique_lock<std::mutex> lock_;
-  SqliteDb::Transaction txn_;
+  SqlDb::Transaction txn_;
 };
 
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
@@ -893,19 +893,19 @@ JobPage JobQueue::List(const JobFilter& filter, int page_size, const std::string
     for (size_t i = 0; i < n; ++i) text += i ? ", ?" : "?";
     return text;
   };
-  std::string sql = std::string("SELECT ") + kRowColumns + " FROM jobs WHERE 1";  // bound one by one below
+  std::string sql = std::string("SELECT ") + kRowColumns + " FROM jobs WHERE TRUE";  // bound one by one below
   if (!filter.states.empty()) sql += " AND state IN (" + placeholders(filter.states.size()) + ")";
   if (!filter.kinds.empty()) sql += " AND kind IN (" + placeholders(filter.kinds.size()) + ")";
   if (before) sql += " AND seq < ?";
   sql += " ORDER BY seq DESC LIMIT ?";
 
   std::lock_guard lock(mu_);
-  auto query = db_->Query(sql);
-  int index = 0;
-  for (const JobState state : filter.states) query.Bind(++index, static_cast<int>(state));
-  for (const v1::JobKind kind : filter.kinds) query.Bind(++index, static_cast<int>(kind));
-  if (before) query.Bind(++index, *before);
-  query.Bind(++index, page_size + 1);
+  std::vector<SqlValue> values;
+  for (const JobState state : filter.states) values.push_back(int64_t{state});
+  for (const v1::JobKind kind : filter.kinds) values.push_back(int64_t{kind});
+  if (before) values.push_back(*before);
+  values.push_back(int64_t{page_size} + 1);
+  SqlQuery query(db_->Execute(sql, values));
   JobPage page;
   std::optional<int64_t> last_seq;
   uint64_t bytes = 0;

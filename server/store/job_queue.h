@@ -54,7 +54,7 @@
 
 namespace loom::server {
 
-class SqliteDb;
+class SqlDb;
 
 struct JobQueueOptions {
   // A lease lasts this long after Lease and after each Heartbeat.
@@ -317,7 +317,7 @@ class JobQueue {
   const JobQueueOptions options_;
   mutable std::mutex mu_;
   mutable std::condition_variable changed_;
-  std::unique_ptr<SqliteDb> db_;
+  std::unique_ptr<SqlDb> db_;
   std::function<void(const std::string&, v1::JobKind)> on_ended_;
   // Jobs ended by the open Txn, for on_ended_ once it commits.
   std::vector<std::pair<std::string, v1::JobKind>> ended_;

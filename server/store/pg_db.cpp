@@ -39,11 +39,6 @@ int HexValue(char c) {
 
 }  // namespace
 
-PgParam ToPgParam(int64_t value) { return {std::to_string(value)}; }
-PgParam ToPgParam(double value) { return {fmt::format("{:.17g}", value)}; }
-PgParam ToPgParam(std::string_view text) { return {std::string(text)}; }
-PgParam ToPgParam(Blob blob) { return {std::string(blob.bytes), true}; }
-
 std::string ToPgPlaceholders(std::string_view sql) {
   std::string out;
   out.reserve(sql.size() + 8);
@@ -74,57 +69,42 @@ std::string ToPgPlaceholders(std::string_view sql) {
   return out;
 }
 
-PgRows::PgRows(pg_result* result)
-    : result_(result), rows_(PQntuples(result)) {
-  const char* changed = PQcmdTuples(result);
-  if (changed && *changed) changes_ = std::strtoll(changed, nullptr, 10);
-}
+PgRows::PgRows(pg_result* result) : result_(result), rows_(PQntuples(result)) {}
 
-PgRows::PgRows(PgRows&& other) noexcept
-    : result_(other.result_), rows_(other.rows_), row_(other.row_), changes_(other.changes_) {
-  other.result_ = nullptr;
-}
-
-PgRows::~PgRows() {
-  if (result_) PQclear(result_);
-}
+PgRows::~PgRows() { PQclear(result_); }
 
 bool PgRows::Step() { return ++row_ < rows_; }
 
-void PgRows::RequireRow(int column) const {
+const char* PgRows::Value(int column) const {
   if (row_ < 0 || row_ >= rows_ || column < 0 || column >= PQnfields(result_)) {
     throw Error(ErrorCode::kInternal, fmt::format("PostgreSQL: no row {} column {}", row_, column));
   }
-}
-
-bool PgRows::IsNull(int column) const {
-  RequireRow(column);
-  return PQgetisnull(result_, row_, column);
+  return PQgetisnull(result_, row_, column) ? nullptr : PQgetvalue(result_, row_, column);
 }
 
 int64_t PgRows::Int(int column) const {
-  if (IsNull(column)) return 0;
-  const char* text = PQgetvalue(result_, row_, column);
+  const char* text = Value(column);
+  if (!text) return 0;
   // A boolean reads as t/f.
   if (text[0] == 't' || text[0] == 'f') return text[0] == 't';
   return std::strtoll(text, nullptr, 10);
 }
 
 double PgRows::Double(int column) const {
-  if (IsNull(column)) return 0;
-  return std::strtod(PQgetvalue(result_, row_, column), nullptr);
+  const char* text = Value(column);
+  return text ? std::strtod(text, nullptr) : 0;
 }
 
 std::string PgRows::Text(int column) const {
-  if (IsNull(column)) return "";
-  const char* text = PQgetvalue(result_, row_, column);
+  const char* text = Value(column);
+  if (!text) return "";
   const int length = PQgetlength(result_, row_, column);
   if (PQftype(result_, column) != kByteaOid) return std::string(text, length);
   // bytea in text form: "\x" and two hex digits a byte.
-  std::string bytes;
   if (length < 2 || text[0] != '\\' || text[1] != 'x') {
     throw Error(ErrorCode::kInternal, "PostgreSQL: a bytea column not in hex form");
   }
+  std::string bytes;
   bytes.reserve((length - 2) / 2);
   for (int i = 2; i + 1 < length; i += 2) {
     bytes += static_cast<char>(HexValue(text[i]) * 16 + HexValue(text[i + 1]));
@@ -197,37 +177,54 @@ void PgDb::Exec(std::string_view sql) {
   PQclear(result);
 }
 
-PgRows PgDb::Execute(std::string_view sql, const std::vector<PgParam>& params) {
+std::unique_ptr<SqlRows> PgDb::Execute(std::string_view sql, const std::vector<SqlValue>& values) {
   Reconnect();
   const std::string text = ToPgPlaceholders(sql);
-  std::vector<const char*> values(params.size());
-  std::vector<int> lengths(params.size()), formats(params.size());
-  for (size_t i = 0; i < params.size(); ++i) {
-    values[i] = params[i].value ? params[i].value->data() : nullptr;
-    lengths[i] = params[i].value ? static_cast<int>(params[i].value->size()) : 0;
-    formats[i] = params[i].binary ? 1 : 0;
+  std::vector<std::string> texts(values.size());
+  std::vector<const char*> pointers(values.size());
+  std::vector<int> lengths(values.size()), formats(values.size());
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (const auto* number = std::get_if<int64_t>(&values[i])) {
+      texts[i] = std::to_string(*number);
+    } else if (const auto* real = std::get_if<double>(&values[i])) {
+      texts[i] = fmt::format("{:.17g}", *real);
+    } else if (const auto* blob = std::get_if<Blob>(&values[i])) {
+      texts[i] = std::string(blob->bytes);
+      formats[i] = 1;  // binary: the bytes as they are
+    } else {
+      texts[i] = std::string(std::get<std::string_view>(values[i]));
+    }
+    pointers[i] = texts[i].data();
+    lengths[i] = static_cast<int>(texts[i].size());
   }
-  pg_result* result = PQexecParams(conn_, text.c_str(), static_cast<int>(params.size()), nullptr, values.data(),
+  pg_result* result = PQexecParams(conn_, text.c_str(), static_cast<int>(values.size()), nullptr, pointers.data(),
                                    lengths.data(), formats.data(), /*resultFormat=*/0);
   const ExecStatusType status = result ? PQresultStatus(result) : PGRES_FATAL_ERROR;
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) Fail(result, sql);
-  return PgRows(result);
+  const char* changed = PQcmdTuples(result);
+  changes_ = changed && *changed ? std::strtoll(changed, nullptr, 10) : 0;
+  return std::make_unique<PgRows>(result);
 }
 
-PgDb::Transaction::Transaction(PgDb& db) : db_(db) { db_.Exec("BEGIN"); }
-
-PgDb::Transaction::~Transaction() {
-  if (done_) return;
+void PgDb::Begin() {
+  Exec("BEGIN");
   try {
-    db_.Exec("ROLLBACK");
-  } catch (const Error&) {
-    // The connection is gone: so is the transaction.
+    // One key for the whole store: 'LOOM'.
+    Exec("SELECT pg_advisory_xact_lock(1280266061)");
+  } catch (...) {
+    Rollback();
+    throw;
   }
 }
 
-void PgDb::Transaction::Commit() {
-  db_.Exec("COMMIT");
-  done_ = true;
+void PgDb::Commit() { Exec("COMMIT"); }
+
+void PgDb::Rollback() noexcept {
+  try {
+    Exec("ROLLBACK");
+  } catch (const Error&) {
+    // The connection is gone: so is the transaction.
+  }
 }
 
 }  // namespace loom::server

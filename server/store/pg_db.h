@@ -1,9 +1,7 @@
 #pragma once
-// A small RAII layer over libpq for the store's PostgreSQL backend (issue 30), the
-// counterpart of sqlite_db.h: one connection, statements written with SQLite's
-// placeholders (`?` in order, or `?N`) and bound by value, rows read by column, and
-// transactions that roll back unless committed. Values go as text, except Blob, which
-// goes as bytes (bytea); a bytea column reads back as its bytes.
+// The store's SqlDb on PostgreSQL through libpq (sql_db.h): one connection, SQLite's placeholders
+// translated, values bound as text except a Blob, which goes as bytes (bytea) and
+// reads back as its bytes; writer transactions serialised by an advisory lock.
 //
 // Every failure becomes a loom::Error naming the statement: kUnavailable when the
 // server cannot be reached or the connection is lost (naming the server, never the
@@ -14,107 +12,67 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "server/store/sql_db.h"
 
 struct pg_conn;
 struct pg_result;
 
 namespace loom::server {
 
-// Bytes bound as bytea (may hold NUL).
-struct Blob {
-  std::string_view bytes;
-};
-
-// One bound parameter: nullopt is SQL NULL.
-struct PgParam {
-  std::optional<std::string> value;
-  bool binary = false;
-};
-
-PgParam ToPgParam(int64_t value);
-PgParam ToPgParam(double value);
-PgParam ToPgParam(std::string_view text);
-PgParam ToPgParam(Blob blob);
-inline PgParam ToPgParam(int value) { return ToPgParam(static_cast<int64_t>(value)); }
-inline PgParam ToPgParam(uint32_t value) { return ToPgParam(static_cast<int64_t>(value)); }
-inline PgParam ToPgParam(uint64_t value) { return ToPgParam(static_cast<int64_t>(value)); }
-inline PgParam ToPgParam(bool value) { return ToPgParam(static_cast<int64_t>(value)); }
-inline PgParam ToPgParam(const std::string& text) { return ToPgParam(std::string_view(text)); }
-inline PgParam ToPgParam(const char* text) { return ToPgParam(std::string_view(text)); }
-
 // SQLite's placeholders in `sql` as PostgreSQL's: `?` -> $1, $2, … in order, `?N` -> $N;
 // none inside quoted literals or identifiers.
 std::string ToPgPlaceholders(std::string_view sql);
 
-// The rows of one executed statement.
-class PgRows {
+// The rows of one executed statement (all fetched).
+class PgRows final : public SqlRows {
  public:
-  PgRows(PgRows&& other) noexcept;
-  PgRows& operator=(PgRows&&) = delete;
-  ~PgRows();
+  explicit PgRows(pg_result* result);
+  PgRows(const PgRows&) = delete;
+  PgRows& operator=(const PgRows&) = delete;
+  ~PgRows() override;
 
-  // Advances to the next row; false when done.
-  bool Step();
-  int64_t Int(int column) const;
-  double Double(int column) const;
-  // A text column as it is, a bytea column as its bytes.
-  std::string Text(int column) const;
-  bool IsNull(int column) const;
-  // Rows the statement changed (INSERT/UPDATE/DELETE).
-  int64_t Changes() const { return changes_; }
+  bool Step() override;
+  int64_t Int(int column) const override;
+  double Double(int column) const override;
+  // A text column as it is, a bytea column as its bytes, NULL as "".
+  std::string Text(int column) const override;
 
  private:
-  friend class PgDb;
-  explicit PgRows(pg_result* result);
-  void RequireRow(int column) const;
+  // The current row's `column`, nullptr for NULL.
+  const char* Value(int column) const;
 
   pg_result* result_;
   int rows_ = 0;
   int row_ = -1;
-  int64_t changes_ = 0;
 };
 
-class PgDb {
+class PgDb final : public SqlDb {
  public:
   // Connects with a libpq connection string or postgresql:// URI.
   // Error(kUnavailable) when the server cannot be reached.
   explicit PgDb(const std::string& conninfo);
-  ~PgDb();
+  ~PgDb() override;
   PgDb(const PgDb&) = delete;
   PgDb& operator=(const PgDb&) = delete;
 
-  // One or more statements, no parameters (schema).
-  void Exec(std::string_view sql);
-
-  template <typename... Args>
-  PgRows Query(std::string_view sql, const Args&... args) {
-    return Execute(sql, {ToPgParam(args)...});
-  }
-  template <typename... Args>
-  int64_t Run(std::string_view sql, const Args&... args) {
-    return Query(sql, args...).Changes();
-  }
-  PgRows Execute(std::string_view sql, const std::vector<PgParam>& params);
+  SqlDialect dialect() const override { return SqlDialect::kPostgres; }
+  void Exec(std::string_view sql) override;
+  std::unique_ptr<SqlRows> Execute(std::string_view sql, const std::vector<SqlValue>& values) override;
+  int64_t Changes() const override { return changes_; }
 
   // "host:port/database" for messages: never the password.
   const std::string& where() const { return where_; }
 
-  class Transaction {
-   public:
-    explicit Transaction(PgDb& db);
-    ~Transaction();
-    Transaction(const Transaction&) = delete;
-    Transaction& operator=(const Transaction&) = delete;
-    void Commit();
-
-   private:
-    PgDb& db_;
-    bool done_ = false;
-  };
+ protected:
+  // BEGIN, then the store's advisory lock, held to the transaction's end: writers
+  // on every connection to this database take turns, as SQLite's do.
+  void Begin() override;
+  void Commit() override;
+  void Rollback() noexcept override;
 
  private:
   void SetUpSession();
@@ -125,6 +83,7 @@ class PgDb {
 
   pg_conn* conn_ = nullptr;
   bool broken_ = false;  // the connection failed: make it again before the next statement
+  int64_t changes_ = 0;
   std::string where_;
 };
 

@@ -36,20 +36,17 @@ Statement::Statement(Statement&& other) noexcept
 
 Statement::~Statement() { sqlite3_finalize(stmt_); }
 
-void Statement::Bind(int index, int64_t value) {
-  const int rc = sqlite3_bind_int64(stmt_, index, value);
-  if (rc != SQLITE_OK) Fail(db_, rc, sql_);
-}
-
-void Statement::Bind(int index, double value) {
-  const int rc = sqlite3_bind_double(stmt_, index, value);
-  if (rc != SQLITE_OK) Fail(db_, rc, sql_);
-}
-
-void Statement::Bind(int index, std::string_view text) {
-  // TEXT with an explicit length: any bytes (serialised protobufs too) round-trip,
-  // since SQLite does not validate UTF-8 and Text() reads the raw bytes back.
-  const int rc = sqlite3_bind_text64(stmt_, index, text.data(), text.size(), SQLITE_TRANSIENT, SQLITE_UTF8);
+void Statement::Bind(int index, const SqlValue& value) {
+  int rc = SQLITE_OK;
+  if (const auto* number = std::get_if<int64_t>(&value)) {
+    rc = sqlite3_bind_int64(stmt_, index, *number);
+  } else if (const auto* real = std::get_if<double>(&value)) {
+    rc = sqlite3_bind_double(stmt_, index, *real);
+  } else {
+    const std::string_view text =
+        std::holds_alternative<Blob>(value) ? std::get<Blob>(value).bytes : std::get<std::string_view>(value);
+    rc = sqlite3_bind_text64(stmt_, index, text.data(), text.size(), SQLITE_TRANSIENT, SQLITE_UTF8);
+  }
   if (rc != SQLITE_OK) Fail(db_, rc, sql_);
 }
 
@@ -58,11 +55,6 @@ bool Statement::Step() {
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
   Fail(db_, rc, sql_);
-}
-
-void Statement::Run() {
-  while (Step()) {
-  }
 }
 
 int64_t Statement::Int(int column) const { return sqlite3_column_int64(stmt_, column); }
@@ -125,17 +117,18 @@ void SqliteDb::Exec(std::string_view sql) {
   }
 }
 
+std::unique_ptr<SqlRows> SqliteDb::Execute(std::string_view sql, const std::vector<SqlValue>& values) {
+  auto statement = std::make_unique<Statement>(db_, sql);
+  for (size_t i = 0; i < values.size(); ++i) statement->Bind(static_cast<int>(i + 1), values[i]);
+  return statement;
+}
+
 int64_t SqliteDb::Changes() const { return sqlite3_changes64(db_); }
 
-SqliteDb::Transaction::Transaction(SqliteDb& db) : db_(db) { db_.Exec("BEGIN IMMEDIATE"); }
+void SqliteDb::Begin() { Exec("BEGIN IMMEDIATE"); }
 
-SqliteDb::Transaction::~Transaction() {
-  if (!done_) sqlite3_exec(db_.db_, "ROLLBACK", nullptr, nullptr, nullptr);
-}
+void SqliteDb::Commit() { Exec("COMMIT"); }
 
-void SqliteDb::Transaction::Commit() {
-  db_.Exec("COMMIT");
-  done_ = true;
-}
+void SqliteDb::Rollback() noexcept { sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr); }
 
 }  // namespace loom::server
