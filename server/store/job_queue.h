@@ -130,6 +130,9 @@ class JobQueue {
   // left by a previous process (a failed attempt: "server restarted ...").
   // `clock` must outlive the queue.
   JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options = {});
+  // The same tables in another database (server/store/sql_db.h): PostgreSQL's
+  // (pg_db.h) is shared by every server on it.
+  JobQueue(std::unique_ptr<SqlDb> db, const Clock& clock, JobQueueOptions options = {});
   ~JobQueue();
   JobQueue(const JobQueue&) = delete;
   JobQueue& operator=(const JobQueue&) = delete;
@@ -311,6 +314,8 @@ class JobQueue {
   // Ends every unfinished job depending on `dependency_seq` FAILED with `error`, transitively.
   void FailDependants(int64_t dependency_seq, const std::string& error, int64_t now_ms);
   void WriteLog(int64_t seq, const std::string& line);
+  // SQL for the byte length of job_log's text column, in the database's dialect.
+  std::string TextBytes() const;
   void Touch(int64_t seq);  // bumps version_ and the job's version
 
   const Clock& clock_;

@@ -11,7 +11,9 @@
 #include <set>
 #include <thread>
 
+#include "server/store/pg_db.h"
 #include "server/store/sqlite_db.h"
+#include "tests/server/store/postgres_server.h"
 #include "store_test_util.h"
 
 namespace loom::server {
@@ -57,15 +59,28 @@ JobFilter States(std::vector<v1::JobState> states) {
   return filter;
 }
 
-class JobQueueTest : public ::testing::Test {
+// Every test on both databases: SQLite in a data directory, and a database of its
+// own on a real PostgreSQL (postgres_server.h).
+class JobQueueTest : public ::testing::TestWithParam<SqlDialect> {
  protected:
-  JobQueueTest() : dir_(FreshDataDir()) { Reopen(); }
+  JobQueueTest() : dir_(FreshDataDir()) {
+    if (GetParam() == SqlDialect::kPostgres) conninfo_ = FreshPostgresDatabase();
+    Reopen();
+  }
+
+  bool OnPostgres() const { return GetParam() == SqlDialect::kPostgres; }
+
+  // Another queue on the same store, as a restarted server opens it.
+  std::unique_ptr<JobQueue> Open(JobQueueOptions options = {}) {
+    if (OnPostgres()) return std::make_unique<JobQueue>(std::make_unique<PgDb>(conninfo_), clock_, options);
+    return std::make_unique<JobQueue>(dir_, clock_, options);
+  }
 
   void Reopen(JobQueueOptions options = {}) {
     queue_.reset();
     options.lease_duration_ms = 30'000;
     options.stuck_after_ms = 300'000;
-    queue_ = std::make_unique<JobQueue>(dir_, clock_, options);
+    queue_ = Open(options);
   }
 
   JobLease MustLease(const std::string& worker) {
@@ -77,11 +92,17 @@ class JobQueueTest : public ::testing::Test {
   int64_t CountJobs() { return queue_->List({}, 1000, "").jobs.size(); }
 
   std::filesystem::path dir_;
+  std::string conninfo_;  // on PostgreSQL
   FakeClock clock_;
   std::unique_ptr<JobQueue> queue_;
 };
 
-TEST_F(JobQueueTest, HigherPriorityFirstThenFifo) {
+INSTANTIATE_TEST_SUITE_P(Stores, JobQueueTest, ::testing::Values(SqlDialect::kSqlite, SqlDialect::kPostgres),
+                         [](const ::testing::TestParamInfo<SqlDialect>& info) {
+                           return info.param == SqlDialect::kPostgres ? "postgresql" : "sqlite";
+                         });
+
+TEST_P(JobQueueTest, HigherPriorityFirstThenFifo) {
   const auto a = queue_->Submit(Render(0)).id();
   const auto b = queue_->Submit(Render(5)).id();
   const auto c = queue_->Submit(Render(0)).id();
@@ -91,7 +112,7 @@ TEST_F(JobQueueTest, HigherPriorityFirstThenFifo) {
   EXPECT_EQ(order, (std::vector<std::string>{b, d, a, c}));
 }
 
-TEST_F(JobQueueTest, LeaseSetsStateAttemptsWorkerAndIncreasingTokens) {
+TEST_P(JobQueueTest, LeaseSetsStateAttemptsWorkerAndIncreasingTokens) {
   const auto submitted = queue_->Submit(Render());
   EXPECT_EQ(submitted.state(), v1::JOB_STATE_QUEUED);
   EXPECT_EQ(submitted.max_attempts(), 3u);
@@ -107,7 +128,7 @@ TEST_F(JobQueueTest, LeaseSetsStateAttemptsWorkerAndIncreasingTokens) {
   EXPECT_FALSE(queue_->Lease("w3").has_value());
 }
 
-TEST_F(JobQueueTest, ClientRequestIdMakesSubmitIdempotent) {
+TEST_P(JobQueueTest, ClientRequestIdMakesSubmitIdempotent) {
   const auto first = queue_->Submit(Render(0, {}, "req-1"));
   const auto again = queue_->Submit(Render(0, {}, "req-1"));
   EXPECT_EQ(again.id(), first.id());
@@ -119,7 +140,7 @@ TEST_F(JobQueueTest, ClientRequestIdMakesSubmitIdempotent) {
   EXPECT_EQ(CountJobs(), 2);
 }
 
-TEST_F(JobQueueTest, ConcurrentPrecomputeOnceCreatesOneJob) {
+TEST_P(JobQueueTest, ConcurrentPrecomputeOnceCreatesOneJob) {
   constexpr int kThreads = 20;
   std::latch start(kThreads);
   std::vector<std::string> ids(kThreads);
@@ -138,7 +159,7 @@ TEST_F(JobQueueTest, ConcurrentPrecomputeOnceCreatesOneJob) {
   EXPECT_TRUE(page.jobs[0].has_precompute());
 }
 
-TEST_F(JobQueueTest, PrecomputeOnceJoinsActiveRaisesPriorityAndNeverJoinsFinished) {
+TEST_P(JobQueueTest, PrecomputeOnceJoinsActiveRaisesPriorityAndNeverJoinsFinished) {
   const auto first = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 1);
   const auto joined = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 7);
   EXPECT_EQ(joined.id(), first.id());
@@ -159,7 +180,7 @@ TEST_F(JobQueueTest, PrecomputeOnceJoinsActiveRaisesPriorityAndNeverJoinsFinishe
                     ErrorCode::kInvalidArgument, "fabric_key");
 }
 
-TEST_F(JobQueueTest, RenderWaitsUntilEveryDependencySucceeded) {
+TEST_P(JobQueueTest, RenderWaitsUntilEveryDependencySucceeded) {
   const auto p1 = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
   const auto p2 = queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'b'), 0);
   const auto render = queue_->Submit(Render(10, {p1.id(), p2.id()}));
@@ -176,7 +197,7 @@ TEST_F(JobQueueTest, RenderWaitsUntilEveryDependencySucceeded) {
   EXPECT_EQ(MustLease("w1").job.id(), render.id());
 }
 
-TEST_F(JobQueueTest, FailedOrCancelledDependencyFailsDependantsNamingIt) {
+TEST_P(JobQueueTest, FailedOrCancelledDependencyFailsDependantsNamingIt) {
   auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
   const auto render = queue_->Submit(Render(0, {precompute.id()}));
   const auto second_level = queue_->Submit(Render(0, {render.id()}));
@@ -206,7 +227,7 @@ TEST_F(JobQueueTest, FailedOrCancelledDependencyFailsDependantsNamingIt) {
   EXPECT_FALSE(queue_->Lease("w9").has_value());
 }
 
-TEST_F(JobQueueTest, ExpiredLeaseIsRequeuedAndItsTokenRefused) {
+TEST_P(JobQueueTest, ExpiredLeaseIsRequeuedAndItsTokenRefused) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   clock_.Advance(20'000);
@@ -233,7 +254,7 @@ TEST_F(JobQueueTest, ExpiredLeaseIsRequeuedAndItsTokenRefused) {
   EXPECT_LOOM_ERROR(queue_->Complete(id, again.token, {kHash}), ErrorCode::kFailedPrecondition, "SUCCEEDED");
 }
 
-TEST_F(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
+TEST_P(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   EXPECT_EQ(queue_->Heartbeat(id, lease.token + 1, 0.1, "x"), HeartbeatStatus::kStaleToken);
@@ -255,7 +276,8 @@ TEST_F(JobQueueTest, HeartbeatRecordsProgressAndWrongTokenIsStale) {
   EXPECT_DOUBLE_EQ(done.timings().run_ms(), 12.5);
 }
 
-TEST_F(JobQueueTest, ADatabaseFromBeforeRunTimesGainsTheColumnWhenOpened) {
+TEST_P(JobQueueTest, ADatabaseFromBeforeRunTimesGainsTheColumnWhenOpened) {
+  if (OnPostgres()) GTEST_SKIP() << "SQLite data directories from before run times only";
   const auto id = queue_->Submit(Render()).id();
   queue_.reset();
   SqliteDb(dir_ / "jobs.db").Exec("ALTER TABLE jobs DROP COLUMN run_ms");
@@ -265,7 +287,7 @@ TEST_F(JobQueueTest, ADatabaseFromBeforeRunTimesGainsTheColumnWhenOpened) {
   EXPECT_DOUBLE_EQ(queue_->Complete(id, lease.token, {kHash}, 7).timings().run_ms(), 7);
 }
 
-TEST_F(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
+TEST_P(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
   const auto id = queue_->Submit(Render()).id();
   for (int attempt = 1; attempt <= 3; ++attempt) {
     const JobLease lease = MustLease(Worker(attempt));
@@ -278,7 +300,7 @@ TEST_F(JobQueueTest, AttemptsAreBoundedThenFailedWithTheLastError) {
   EXPECT_FALSE(queue_->Lease("w4").has_value());
 }
 
-TEST_F(JobQueueTest, ExpiryCountsAsAnAttempt) {
+TEST_P(JobQueueTest, ExpiryCountsAsAnAttempt) {
   auto job = Render();
   job.set_max_attempts(1);
   const auto id = queue_->Submit(job).id();
@@ -289,7 +311,7 @@ TEST_F(JobQueueTest, ExpiryCountsAsAnAttempt) {
   EXPECT_NE(queue_->Get(id).error().find("lease expired"), std::string::npos);
 }
 
-TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgainWhileAnotherLiveWorkerCouldTakeIt) {
+TEST_P(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgainWhileAnotherLiveWorkerCouldTakeIt) {
   const auto id = queue_->Submit(Render()).id();
   queue_->WorkerSeen("w2");
   queue_->Fail(id, MustLease("w1").token, "out of GPU memory");
@@ -299,7 +321,7 @@ TEST_F(JobQueueTest, WorkerThatFailedAJobIsNotGivenItAgainWhileAnotherLiveWorker
   EXPECT_EQ(other.job.error(), "out of GPU memory (worker w1)");
 }
 
-TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
+TEST_P(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
   const auto id = queue_->Submit(Render()).id();
   queue_->WorkerSeen("w2");
   queue_->Fail(id, MustLease("w1").token, "transient 1");
@@ -318,7 +340,7 @@ TEST_F(JobQueueTest, TheOnlyLiveWorkerGetsAJobItFailedBackUntilAttemptsRunOut) {
 
 // The per-job blocklist (issue 22): a worker that failed a job blocklist_after
 // times never gets it again, not even as the only worker; a retry clears it.
-TEST_F(JobQueueTest, AWorkerIsBlocklistedFromAJobAfterItsFailuresUntilARetry) {
+TEST_P(JobQueueTest, AWorkerIsBlocklistedFromAJobAfterItsFailuresUntilARetry) {
   JobQueueOptions options;
   options.blocklist_after = 2;
   Reopen(options);
@@ -355,7 +377,7 @@ TEST_F(JobQueueTest, AWorkerIsBlocklistedFromAJobAfterItsFailuresUntilARetry) {
   EXPECT_EQ(MustLease("w1").job.id(), id);
 }
 
-TEST_F(JobQueueTest, RetryQueuesFailedJobsAndTheFailedJobsTheyDependOn) {
+TEST_P(JobQueueTest, RetryQueuesFailedJobsAndTheFailedJobsTheyDependOn) {
   auto failing = Render();
   failing.set_max_attempts(1);
   const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
@@ -386,7 +408,7 @@ TEST_F(JobQueueTest, RetryQueuesFailedJobsAndTheFailedJobsTheyDependOn) {
   EXPECT_LOOM_ERROR(queue_->Retry({"job-999"}), ErrorCode::kNotFound, "job-999");
 }
 
-TEST_F(JobQueueTest, SetPriorityReordersWaitingJobsAndRefusesFinishedOnes) {
+TEST_P(JobQueueTest, SetPriorityReordersWaitingJobsAndRefusesFinishedOnes) {
   const auto first = queue_->Submit(Render(0)).id();
   const auto second = queue_->Submit(Render(0)).id();
   EXPECT_EQ(queue_->SetPriority(second, 9).priority(), 9);
@@ -398,7 +420,7 @@ TEST_F(JobQueueTest, SetPriorityReordersWaitingJobsAndRefusesFinishedOnes) {
   EXPECT_LOOM_ERROR(queue_->SetPriority(first, 1), ErrorCode::kFailedPrecondition, "already SUCCEEDED");
 }
 
-TEST_F(JobQueueTest, DeleteRemovesFinishedJobsAndRefusesOneAnUnfinishedJobWaitsFor) {
+TEST_P(JobQueueTest, DeleteRemovesFinishedJobsAndRefusesOneAnUnfinishedJobWaitsFor) {
   v1::Job precompute_job;
   precompute_job.set_kind(v1::JOB_KIND_PRECOMPUTE);
   *precompute_job.mutable_precompute() = PrecomputePayload();
@@ -421,7 +443,7 @@ TEST_F(JobQueueTest, DeleteRemovesFinishedJobsAndRefusesOneAnUnfinishedJobWaitsF
   EXPECT_GT(MustLease("w1").token, lease.token);
 }
 
-TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
+TEST_P(JobQueueTest, AHandBackUsesUpNoAttempt) {
   auto job = Render();
   job.set_max_attempts(1);
   const auto id = queue_->Submit(job).id();
@@ -442,7 +464,7 @@ TEST_F(JobQueueTest, AHandBackUsesUpNoAttempt) {
             log.end());
 }
 
-TEST_F(JobQueueTest, AHandBackCanMakeTheJobWaitForAnother) {
+TEST_P(JobQueueTest, AHandBackCanMakeTheJobWaitForAnother) {
   const auto render = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0).id();
@@ -458,14 +480,14 @@ TEST_F(JobQueueTest, AHandBackCanMakeTheJobWaitForAnother) {
   EXPECT_EQ(MustLease("w2").job.id(), render);
 }
 
-TEST_F(JobQueueTest, AHandBackAfterACancelRequestEndsCancelled) {
+TEST_P(JobQueueTest, AHandBackAfterACancelRequestEndsCancelled) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   queue_->Cancel(id);
   EXPECT_EQ(queue_->HandBack(id, lease.token, "stopping").state(), v1::JOB_STATE_CANCELLED);
 }
 
-TEST_F(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
+TEST_P(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
   const auto id = queue_->Submit(Render()).id();
   const auto ended = queue_->Fail(id, MustLease("w1").token, "scene.render.width: 0 is below 1", Failure::kPermanent);
   EXPECT_EQ(ended.state(), v1::JOB_STATE_FAILED);
@@ -475,7 +497,7 @@ TEST_F(JobQueueTest, APermanentFailureEndsTheJobFailedAtOnce) {
   EXPECT_FALSE(queue_->Lease("w2").has_value());
 }
 
-TEST_F(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
+TEST_P(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   // Heartbeats keep the lease alive, but with the same progress for 300 s.
@@ -494,7 +516,7 @@ TEST_F(JobQueueTest, JobWhoseProgressStopsMovingIsStuck) {
   EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.6, "fit level 1"), HeartbeatStatus::kStaleToken);
 }
 
-TEST_F(JobQueueTest, MovingProgressIsNotStuck) {
+TEST_P(JobQueueTest, MovingProgressIsNotStuck) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   for (int i = 1; i <= 20; ++i) {
@@ -505,7 +527,7 @@ TEST_F(JobQueueTest, MovingProgressIsNotStuck) {
   EXPECT_EQ(queue_->Get(id).state(), v1::JOB_STATE_RUNNING);
 }
 
-TEST_F(JobQueueTest, CancelQueuedJobEndsItAtOnce) {
+TEST_P(JobQueueTest, CancelQueuedJobEndsItAtOnce) {
   const auto id = queue_->Submit(Render()).id();
   const auto cancelled = queue_->Cancel(id);
   EXPECT_EQ(cancelled.state(), v1::JOB_STATE_CANCELLED);
@@ -513,7 +535,7 @@ TEST_F(JobQueueTest, CancelQueuedJobEndsItAtOnce) {
   EXPECT_LOOM_ERROR(queue_->Cancel(id), ErrorCode::kFailedPrecondition, "already CANCELLED");
 }
 
-TEST_F(JobQueueTest, CancelRunningJobReachesWorkerAtNextHeartbeat) {
+TEST_P(JobQueueTest, CancelRunningJobReachesWorkerAtNextHeartbeat) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   EXPECT_EQ(queue_->Heartbeat(id, lease.token, 0.1, "render"), HeartbeatStatus::kOk);
@@ -527,7 +549,7 @@ TEST_F(JobQueueTest, CancelRunningJobReachesWorkerAtNextHeartbeat) {
   EXPECT_LOOM_ERROR(queue_->Cancel(id), ErrorCode::kFailedPrecondition, "already CANCELLED");
 }
 
-TEST_F(JobQueueTest, CompleteAfterCancelRequestEndsCancelled) {
+TEST_P(JobQueueTest, CompleteAfterCancelRequestEndsCancelled) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   queue_->Cancel(id);
@@ -537,7 +559,7 @@ TEST_F(JobQueueTest, CompleteAfterCancelRequestEndsCancelled) {
   EXPECT_LOOM_ERROR(queue_->Complete(id, lease.token, {kHash}), ErrorCode::kFailedPrecondition, "stale");
 }
 
-TEST_F(JobQueueTest, ExpiredLeaseWithCancelRequestEndsCancelled) {
+TEST_P(JobQueueTest, ExpiredLeaseWithCancelRequestEndsCancelled) {
   const auto id = queue_->Submit(Render()).id();
   MustLease("w1");
   queue_->Cancel(id);
@@ -546,7 +568,7 @@ TEST_F(JobQueueTest, ExpiredLeaseWithCancelRequestEndsCancelled) {
   EXPECT_EQ(queue_->Get(id).state(), v1::JOB_STATE_CANCELLED);
 }
 
-TEST_F(JobQueueTest, ReopenKeepsEveryJobAndRequeuesLeasedOnes) {
+TEST_P(JobQueueTest, ReopenKeepsEveryJobAndRequeuesLeasedOnes) {
   const auto queued = queue_->Submit(Render(1)).id();
   const auto running = queue_->Submit(Render(5)).id();
   const auto done = queue_->Submit(Render(3)).id();
@@ -575,19 +597,19 @@ TEST_F(JobQueueTest, ReopenKeepsEveryJobAndRequeuesLeasedOnes) {
   EXPECT_GT(fresh.token, done_lease.token);  // tokens keep growing across restarts
 }
 
-TEST_F(JobQueueTest, SurvivesKillDashNineOfTheServer) {
+TEST_P(JobQueueTest, SurvivesKillDashNineOfTheServer) {
   queue_.reset();  // the child process opens the queue itself
   // The child submits three jobs, leases one (token 1) and finishes another, then
   // dies by SIGKILL: no destructor, no checkpoint, nothing flushed on the way out.
   EXPECT_EXIT(
       {
-        JobQueue server(dir_, clock_);
-        for (int priority : {3, 2, 1}) server.Submit(Render(priority));
-        const auto done = server.Lease("w1");
-        server.Complete(done->job.id(), done->token, {kHash});
-        const auto running = server.Lease("w1");
-        server.Heartbeat(running->job.id(), running->token, 0.5, "render");
-        server.AppendLog(running->job.id(), "half way");
+        const std::unique_ptr<JobQueue> server = Open();
+        for (int priority : {3, 2, 1}) server->Submit(Render(priority));
+        const auto done = server->Lease("w1");
+        server->Complete(done->job.id(), done->token, {kHash});
+        const auto running = server->Lease("w1");
+        server->Heartbeat(running->job.id(), running->token, 0.5, "render");
+        server->AppendLog(running->job.id(), "half way");
         std::raise(SIGKILL);
       },
       ::testing::KilledBySignal(SIGKILL), "");
@@ -605,13 +627,14 @@ TEST_F(JobQueueTest, SurvivesKillDashNineOfTheServer) {
   EXPECT_EQ(again.token, 3u);
 }
 
-TEST_F(JobQueueTest, SecondQueueOnTheSameDataDirectoryIsRefused) {
+TEST_P(JobQueueTest, SecondQueueOnTheSameDataDirectoryIsRefused) {
+  if (OnPostgres()) GTEST_SKIP() << "several servers on one PostgreSQL are the point";
   EXPECT_LOOM_ERROR(JobQueue(dir_, clock_), ErrorCode::kFailedPrecondition, "in use by another process");
   queue_->Submit(Render());  // the first one is unaffected
   EXPECT_EQ(CountJobs(), 1);
 }
 
-TEST_F(JobQueueTest, FourWorkersCompleteTwoHundredJobsEachExactlyOnce) {
+TEST_P(JobQueueTest, FourWorkersCompleteTwoHundredJobsEachExactlyOnce) {
   constexpr int kJobs = 200;
   for (int i = 0; i < kJobs; ++i) queue_->Submit(Render(i % 3));
   std::mutex mu;
@@ -637,7 +660,45 @@ TEST_F(JobQueueTest, FourWorkersCompleteTwoHundredJobsEachExactlyOnce) {
   for (const auto& job : queue_->List({}, 1000, "").jobs) EXPECT_EQ(job.attempts(), 1u) << job.id();
 }
 
-TEST_F(JobQueueTest, LeaseWaitWakesOnSubmitAndOnShutdown) {
+// Several servers on one PostgreSQL: each its own queue on its own connection. Every
+// job is leased and completed exactly once, whichever server a worker asks.
+TEST_P(JobQueueTest, ThreeServersOnOneStoreCompleteEachJobExactlyOnce) {
+  if (!OnPostgres()) GTEST_SKIP() << "one server per SQLite data directory";
+  constexpr int kJobs = 300;
+  for (int i = 0; i < kJobs; ++i) queue_->Submit(Render(i % 3));
+  std::vector<std::unique_ptr<JobQueue>> servers;
+  for (int s = 0; s < 3; ++s) servers.push_back(Open());
+  std::mutex mu;
+  std::map<std::string, int> completions;
+  std::vector<std::string> errors;
+  std::vector<std::thread> workers;
+  for (int w = 0; w < 6; ++w) {
+    workers.emplace_back([&, w] {
+      JobQueue& server = *servers[w % 3];
+      const std::string worker = Worker(w);
+      while (auto lease = server.Lease(worker)) {
+        try {
+          server.Heartbeat(lease->job.id(), lease->token, 0.5, "render");
+          server.Complete(lease->job.id(), lease->token, {kHash});
+        } catch (const Error& error) {  // a job leased twice: the first lease went stale
+          std::lock_guard lock(mu);
+          errors.push_back(error.what());
+          continue;
+        }
+        std::lock_guard lock(mu);
+        ++completions[lease->job.id()];
+      }
+    });
+  }
+  for (auto& worker : workers) worker.join();
+  EXPECT_TRUE(errors.empty()) << errors.size() << " reports refused, the first: " << errors.front();
+  EXPECT_EQ(completions.size(), static_cast<size_t>(kJobs));
+  for (const auto& [id, count] : completions) EXPECT_EQ(count, 1) << id;
+  EXPECT_EQ(queue_->Depth().Count(v1::JOB_STATE_SUCCEEDED), kJobs);
+  for (const auto& job : queue_->List({}, 1000, "").jobs) EXPECT_EQ(job.attempts(), 1u) << job.id();
+}
+
+TEST_P(JobQueueTest, LeaseWaitWakesOnSubmitAndOnShutdown) {
   EXPECT_FALSE(queue_->LeaseWait("w1", steady_clock::now()).has_value());  // deadline passed: no wait
 
   std::optional<JobLease> got;
@@ -654,7 +715,7 @@ TEST_F(JobQueueTest, LeaseWaitWakesOnSubmitAndOnShutdown) {
   EXPECT_FALSE(none.has_value());
 }
 
-TEST_F(JobQueueTest, WaitForChangeSeesChangesToTheWatchedJob) {
+TEST_P(JobQueueTest, WaitForChangeSeesChangesToTheWatchedJob) {
   const auto a = queue_->Submit(Render()).id();
   const auto b = queue_->Submit(Render()).id();
   const uint64_t seen = queue_->Version();
@@ -673,7 +734,7 @@ TEST_F(JobQueueTest, WaitForChangeSeesChangesToTheWatchedJob) {
   EXPECT_LOOM_ERROR(queue_->WaitForChange("job-999", 0, past), ErrorCode::kNotFound, "job-999");
 }
 
-TEST_F(JobQueueTest, ListPagesNewestFirstWithFilters) {
+TEST_P(JobQueueTest, ListPagesNewestFirstWithFilters) {
   std::vector<std::string> ids;
   for (int i = 0; i < 5; ++i) {
     ids.push_back(i % 2 ? queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'a' + i), 0).id()
@@ -704,7 +765,7 @@ TEST_F(JobQueueTest, ListPagesNewestFirstWithFilters) {
 
 // A page ends before its jobs pass max_bytes (ListJobs: a default client's 4 MiB
 // receive limit), and still holds one job that is larger on its own.
-TEST_F(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
+TEST_P(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
   constexpr uint64_t kCap = 100'000;
   for (int i = 0; i < 10; ++i) {
     v1::Job job = Render();
@@ -733,7 +794,7 @@ TEST_F(JobQueueTest, ListPagesEndBeforeTheirBytesPassTheCap) {
   EXPECT_EQ(sizes, (std::vector<size_t>{1, 3, 3, 3, 1}));  // the huge one alone, newest first
 }
 
-TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
+TEST_P(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   queue_->AppendLog(id, "loading scene");
@@ -751,7 +812,7 @@ TEST_F(JobQueueTest, LogKeepsWorkerAndQueueLinesInOrder) {
   EXPECT_LOOM_ERROR(queue_->Log(id, -1), ErrorCode::kInvalidArgument, "negative");
 }
 
-TEST_F(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
+TEST_P(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
   Reopen(JobQueueOptions{.log_keep_bytes = 4096});
   const auto id = queue_->Submit(Render()).id();
   const auto numbered = [](int n) {
@@ -789,7 +850,7 @@ TEST_F(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
   EXPECT_LOOM_ERROR(Reopen(JobQueueOptions{.log_keep_bytes = 100}), ErrorCode::kInvalidArgument, "log_keep_bytes");
 }
 
-TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
+TEST_P(JobQueueTest, DepthCountsStatesAndReadyJobs) {
   const auto precompute = queue_->SubmitPrecomputeOnce(PrecomputePayload(), kFabricKey, 0);
   queue_->Submit(Render(0, {precompute.id()}));
   queue_->Submit(Render());
@@ -810,7 +871,7 @@ TEST_F(JobQueueTest, DepthCountsStatesAndReadyJobs) {
   EXPECT_EQ(depth.ready_by_kind[v1::JOB_KIND_PRECOMPUTE], 0);
 }
 
-TEST_F(JobQueueTest, CountersCountLeasesExpiriesFailuresAndRetries) {
+TEST_P(JobQueueTest, CountersCountLeasesExpiriesFailuresAndRetries) {
   JobQueueOptions options;
   options.default_max_attempts = 2;
   Reopen(options);
@@ -850,7 +911,7 @@ TEST_F(JobQueueTest, CountersCountLeasesExpiriesFailuresAndRetries) {
   EXPECT_EQ(queue_->Counters().lease_expiries, 1);
 }
 
-TEST_F(JobQueueTest, BadInputIsRefusedAndNothingStoredChanges) {
+TEST_P(JobQueueTest, BadInputIsRefusedAndNothingStoredChanges) {
   const auto id = queue_->Submit(Render()).id();
   const JobLease lease = MustLease("w1");
   EXPECT_LOOM_ERROR(queue_->Get("job-42"), ErrorCode::kNotFound, "job-42");

@@ -80,6 +80,14 @@ void PostgresServer::Restart() {
   running_ = true;
 }
 
+std::string FreshPostgresDatabase() {
+  static PostgresServer server;  // destroyed at exit: stopped and removed
+  static int databases = 0;
+  const std::string name = "loom_" + std::to_string(++databases);
+  server.CreateDatabase(name);
+  return server.ConnInfo(name);
+}
+
 void PostgresServer::RunTool(const std::string& arguments) const {
   std::string command = (BinDir() / "").string() + arguments;
   if (::geteuid() == 0) command = "runuser -u postgres -- " + command;

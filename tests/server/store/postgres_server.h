@@ -37,4 +37,8 @@ class PostgresServer {
   bool running_ = false;
 };
 
+// A new empty database on this process's own PostgreSQL server (started on first
+// use, stopped at exit); its connection string.
+std::string FreshPostgresDatabase();
+
 }  // namespace loom::server
