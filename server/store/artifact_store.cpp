@@ -17,11 +17,12 @@
 namespace loom::server {
 namespace {
 
+// In both SQLite's and PostgreSQL's dialect.
 constexpr const char* kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS artifacts (
   hash TEXT PRIMARY KEY,
-  size INTEGER NOT NULL,
-  use_seq INTEGER NOT NULL);  -- larger: used more recently
+  size BIGINT NOT NULL,
+  use_seq BIGINT NOT NULL);  -- larger: used more recently
 CREATE INDEX IF NOT EXISTS artifacts_by_use ON artifacts(use_seq);
 CREATE TABLE IF NOT EXISTS artifact_pins (
   hash TEXT NOT NULL,
@@ -122,9 +123,12 @@ std::string ArtifactWriter::Commit(std::string_view expected_sha256) {
 // --- ArtifactStore --------------------------------------------------------------------
 
 ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, ArtifactStoreOptions options)
-    : options_(options), artifacts_dir_(data_dir / "artifacts"), tmp_dir_(data_dir / "tmp") {
-  // The database first: its lock keeps a second process from emptying our tmp dir.
-  db_ = std::make_unique<SqliteDb>(data_dir / "cache.db");
+    // The database first: its lock keeps a second process from emptying our tmp dir.
+    : ArtifactStore(data_dir, std::make_unique<SqliteDb>(data_dir / "cache.db"), options) {}
+
+ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, std::unique_ptr<SqlDb> db,
+                             ArtifactStoreOptions options)
+    : options_(options), artifacts_dir_(data_dir / "artifacts"), tmp_dir_(data_dir / "tmp"), db_(std::move(db)) {
   std::error_code ec;
   std::filesystem::create_directories(artifacts_dir_, ec);
   CheckFilesystem(ec, "cannot create " + artifacts_dir_.string());
@@ -182,7 +186,8 @@ void ArtifactStore::AddCommitted(const std::filesystem::path& temp_path, const s
   // Row first, rename before the commit: both happen under mu_, and a crash in
   // between leaves at worst a row without a file, which Has() and Open forget.
   SqlDb::Transaction txn(*db_);
-  db_->Run(std::string("INSERT OR REPLACE INTO artifacts (hash, size, use_seq) VALUES (?, ?, ") + kNextUse + ")",
+  db_->Run(std::string("INSERT INTO artifacts (hash, size, use_seq) VALUES (?, ?, ") + kNextUse +
+               ") ON CONFLICT (hash) DO UPDATE SET size = excluded.size, use_seq = excluded.use_seq",
            hash, size);
   const auto path = PathOf(hash);
   std::filesystem::create_directories(path.parent_path(), ec);
@@ -318,7 +323,7 @@ void ArtifactStore::Pin(std::string_view hash, std::string_view owner) {
   std::lock_guard lock(mu_);
   const std::string key(hash);
   if (!HasLocked(key)) throw Error(ErrorCode::kNotFound, "artifact " + key + " is not in the store");
-  db_->Run("INSERT OR IGNORE INTO artifact_pins (hash, owner) VALUES (?, ?)", key, owner);
+  db_->Run("INSERT INTO artifact_pins (hash, owner) VALUES (?, ?) ON CONFLICT DO NOTHING", key, owner);
 }
 
 void ArtifactStore::Unpin(std::string_view hash, std::string_view owner) {

@@ -79,6 +79,9 @@ class ArtifactStore {
   // Opens (creating if needed) DATA/cache.db, DATA/artifacts/ and DATA/tmp/; empties
   // DATA/tmp; forgets catalogue rows whose file has disappeared.
   explicit ArtifactStore(const std::filesystem::path& data_dir, ArtifactStoreOptions options = {});
+  // The same with the catalogue in another database (server/store/sql_db.h; the files
+  // stay under DATA).
+  ArtifactStore(const std::filesystem::path& data_dir, std::unique_ptr<SqlDb> db, ArtifactStoreOptions options = {});
   ~ArtifactStore();
   ArtifactStore(const ArtifactStore&) = delete;
   ArtifactStore& operator=(const ArtifactStore&) = delete;

@@ -8,14 +8,15 @@
 namespace loom::server {
 namespace {
 
+// In both SQLite's and PostgreSQL's dialect.
 constexpr const char* kSchema = R"sql(
 CREATE TABLE IF NOT EXISTS fabrics (
   key TEXT PRIMARY KEY,
   manifest_json TEXT NOT NULL,
   pinned INTEGER NOT NULL DEFAULT 0,
-  created_ms INTEGER NOT NULL,
-  last_used_ms INTEGER NOT NULL,
-  use_seq INTEGER NOT NULL);  -- larger: used more recently
+  created_ms BIGINT NOT NULL,
+  last_used_ms BIGINT NOT NULL,
+  use_seq BIGINT NOT NULL);  -- larger: used more recently
 CREATE TABLE IF NOT EXISTS fabric_files (
   key TEXT NOT NULL REFERENCES fabrics(key),
   name TEXT NOT NULL,
@@ -109,7 +110,7 @@ FabricEntry FabricCache::Put(const std::string& key, const std::vector<FabricFil
   db.Run("DELETE FROM fabric_files WHERE key = ?", key);
   for (const FabricFile& file : files) {
     db.Run("INSERT INTO fabric_files (key, name, hash) VALUES (?, ?, ?)", key, file.name, file.hash);
-    db.Run("INSERT OR IGNORE INTO artifact_pins (hash, owner) VALUES (?, ?)", file.hash, PinOwner(key));
+    db.Run("INSERT INTO artifact_pins (hash, owner) VALUES (?, ?) ON CONFLICT DO NOTHING", file.hash, PinOwner(key));
     artifacts_.TouchLocked(file.hash);
   }
   FabricEntry entry = *FindLocked(key);

@@ -7,7 +7,9 @@
 
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
+#include "server/store/pg_db.h"
 #include "store_test_util.h"
+#include "tests/server/store/postgres_server.h"
 
 namespace loom::server {
 namespace {
@@ -23,22 +25,38 @@ int CountFiles(const fs::path& dir) {
   return count;
 }
 
-class ArtifactStoreTest : public ::testing::Test {
+// Every test with the catalogue in SQLite and in a real PostgreSQL
+// (postgres_server.h); the files under DATA either way.
+class ArtifactStoreTest : public ::testing::TestWithParam<SqlDialect> {
  protected:
-  ArtifactStoreTest() : dir_(FreshDataDir()) { Reopen(); }
+  ArtifactStoreTest() : dir_(FreshDataDir()) {
+    if (GetParam() == SqlDialect::kPostgres) conninfo_ = FreshPostgresDatabase();
+    Reopen();
+  }
+
+  std::unique_ptr<ArtifactStore> Open(uint64_t budget_bytes = 0) {
+    if (GetParam() == SqlDialect::kPostgres) {
+      return std::make_unique<ArtifactStore>(dir_, std::make_unique<PgDb>(conninfo_),
+                                             ArtifactStoreOptions{budget_bytes});
+    }
+    return std::make_unique<ArtifactStore>(dir_, ArtifactStoreOptions{budget_bytes});
+  }
 
   void Reopen(uint64_t budget_bytes = 0) {
     store_.reset();
-    store_ = std::make_unique<ArtifactStore>(dir_, ArtifactStoreOptions{budget_bytes});
+    store_ = Open(budget_bytes);
   }
 
   fs::path FileOf(const std::string& hash) const { return dir_ / "artifacts" / hash.substr(0, 2) / hash; }
 
   fs::path dir_;
+  std::string conninfo_;  // on PostgreSQL
   std::unique_ptr<ArtifactStore> store_;
 };
 
-TEST_F(ArtifactStoreTest, PutThenReadRoundTripsUnderTheContentHash) {
+INSTANTIATE_TEST_SUITE_P(Stores, ArtifactStoreTest, kBothStores, StoreName);
+
+TEST_P(ArtifactStoreTest, PutThenReadRoundTripsUnderTheContentHash) {
   EXPECT_EQ(store_->Put("hello"), kHelloHash);
   EXPECT_TRUE(fs::exists(FileOf(kHelloHash)));
   EXPECT_EQ(ReadFile(FileOf(kHelloHash)), "hello");
@@ -50,7 +68,7 @@ TEST_F(ArtifactStoreTest, PutThenReadRoundTripsUnderTheContentHash) {
   EXPECT_EQ(CountFiles(dir_ / "artifacts"), 1);
 }
 
-TEST_F(ArtifactStoreTest, StreamingWriterVerifiesThenCommits) {
+TEST_P(ArtifactStoreTest, StreamingWriterVerifiesThenCommits) {
   ArtifactWriter writer = store_->NewWriter();
   writer.Append("hel");
   EXPECT_EQ(CountFiles(dir_ / "tmp"), 1);  // the upload lives under DATA/tmp until committed
@@ -63,7 +81,7 @@ TEST_F(ArtifactStoreTest, StreamingWriterVerifiesThenCommits) {
   EXPECT_LOOM_ERROR(writer.Append("more"), ErrorCode::kFailedPrecondition, "already committed");
 }
 
-TEST_F(ArtifactStoreTest, ChecksumMismatchStoresNothing) {
+TEST_P(ArtifactStoreTest, ChecksumMismatchStoresNothing) {
   ArtifactWriter writer = store_->NewWriter();
   writer.Append("hellO");
   EXPECT_LOOM_ERROR(writer.Commit(kHelloHash), ErrorCode::kInvalidArgument,
@@ -79,7 +97,7 @@ TEST_F(ArtifactStoreTest, ChecksumMismatchStoresNothing) {
   EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
 }
 
-TEST_F(ArtifactStoreTest, AbandonedUploadLeavesNoTempFile) {
+TEST_P(ArtifactStoreTest, AbandonedUploadLeavesNoTempFile) {
   {
     ArtifactWriter writer = store_->NewWriter();
     writer.Append("partial");
@@ -88,7 +106,7 @@ TEST_F(ArtifactStoreTest, AbandonedUploadLeavesNoTempFile) {
   EXPECT_EQ(store_->TotalBytes(), 0u);
 }
 
-TEST_F(ArtifactStoreTest, TempLeftoversOfACrashAreRemovedOnOpen) {
+TEST_P(ArtifactStoreTest, TempLeftoversOfACrashAreRemovedOnOpen) {
   store_->Put("kept");
   WriteFileAtomic(dir_ / "tmp" / "upload-123-0", "half an upload");
   WriteFileAtomic(dir_ / "tmp" / "nested" / "upload-123-1", "another");
@@ -98,13 +116,13 @@ TEST_F(ArtifactStoreTest, TempLeftoversOfACrashAreRemovedOnOpen) {
   EXPECT_EQ(store_->Read(Sha256Hex("kept")), "kept");
 }
 
-TEST_F(ArtifactStoreTest, KillDashNineMidUploadLosesOnlyTheUpload) {
+TEST_P(ArtifactStoreTest, KillDashNineMidUploadLosesOnlyTheUpload) {
   store_.reset();
   EXPECT_EXIT(
       {
-        ArtifactStore server(dir_);
-        server.Put("committed");
-        ArtifactWriter upload = server.NewWriter();
+        const std::unique_ptr<ArtifactStore> server = Open();
+        server->Put("committed");
+        ArtifactWriter upload = server->NewWriter();
         upload.Append("half of an upl");
         std::raise(SIGKILL);
       },
@@ -116,7 +134,7 @@ TEST_F(ArtifactStoreTest, KillDashNineMidUploadLosesOnlyTheUpload) {
   EXPECT_EQ(store_->TotalBytes(), 9u);
 }
 
-TEST_F(ArtifactStoreTest, CorruptFileIsDetectedRemovedAndReported) {
+TEST_P(ArtifactStoreTest, CorruptFileIsDetectedRemovedAndReported) {
   store_->Put("hello");
   WriteFileAtomic(FileOf(kHelloHash), "jello");  // same size, one byte flipped
   EXPECT_LOOM_ERROR(store_->Read(kHelloHash), ErrorCode::kNotFound, "was corrupt");
@@ -129,7 +147,7 @@ TEST_F(ArtifactStoreTest, CorruptFileIsDetectedRemovedAndReported) {
   EXPECT_EQ(store_->Read(kHelloHash), "hello");
 }
 
-TEST_F(ArtifactStoreTest, VerifyReportsMissingAndCorruptFiles) {
+TEST_P(ArtifactStoreTest, VerifyReportsMissingAndCorruptFiles) {
   const auto a = store_->Put("aaaa");
   const auto b = store_->Put("bbbb");
   EXPECT_TRUE(store_->Verify(a));
@@ -141,7 +159,7 @@ TEST_F(ArtifactStoreTest, VerifyReportsMissingAndCorruptFiles) {
   EXPECT_EQ(store_->TotalBytes(), 0u);
 }
 
-TEST_F(ArtifactStoreTest, MissingListsAbsentHashesInOrderWithoutRepeats) {
+TEST_P(ArtifactStoreTest, MissingListsAbsentHashesInOrderWithoutRepeats) {
   const auto present = store_->Put("present");
   const std::string absent1(64, '1');
   const std::string absent2(64, '2');
@@ -150,7 +168,7 @@ TEST_F(ArtifactStoreTest, MissingListsAbsentHashesInOrderWithoutRepeats) {
   EXPECT_TRUE(store_->Missing({}).empty());
 }
 
-TEST_F(ArtifactStoreTest, EvictionRemovesLeastRecentlyUsedFirst) {
+TEST_P(ArtifactStoreTest, EvictionRemovesLeastRecentlyUsedFirst) {
   Reopen(/*budget_bytes=*/10);
   const auto a = store_->Put("aaaa");
   const auto b = store_->Put("bbbb");
@@ -166,7 +184,7 @@ TEST_F(ArtifactStoreTest, EvictionRemovesLeastRecentlyUsedFirst) {
   EXPECT_EQ(store_->Missing({a, b, c, d}), (std::vector<std::string>{a, b}));
 }
 
-TEST_F(ArtifactStoreTest, PinnedArtifactsSurviveEviction) {
+TEST_P(ArtifactStoreTest, PinnedArtifactsSurviveEviction) {
   Reopen(/*budget_bytes=*/4);
   const auto a = store_->Put("aaaa");
   const auto b = store_->Put("bbbb");
@@ -187,14 +205,14 @@ TEST_F(ArtifactStoreTest, PinnedArtifactsSurviveEviction) {
   EXPECT_LOOM_ERROR(store_->Pin(a, ""), ErrorCode::kInvalidArgument, "owner");
 }
 
-TEST_F(ArtifactStoreTest, RemoveDeletesTheFile) {
+TEST_P(ArtifactStoreTest, RemoveDeletesTheFile) {
   const auto a = store_->Put("aaaa");
   store_->Remove(a);
   EXPECT_FALSE(fs::exists(FileOf(a)));
   EXPECT_LOOM_ERROR(store_->Remove(a), ErrorCode::kNotFound, a);
 }
 
-TEST_F(ArtifactStoreTest, ReopenKeepsTheCatalogueAndForgetsVanishedFiles) {
+TEST_P(ArtifactStoreTest, ReopenKeepsTheCatalogueAndForgetsVanishedFiles) {
   const auto a = store_->Put("aaaa");
   const auto b = store_->Put("bbbbbb");
   store_->Pin(a, "fabric:x");
@@ -209,7 +227,7 @@ TEST_F(ArtifactStoreTest, ReopenKeepsTheCatalogueAndForgetsVanishedFiles) {
   EXPECT_FALSE(store_->Has(b));
 }
 
-TEST_F(ArtifactStoreTest, ConcurrentWritersOfSameAndDifferentContent) {
+TEST_P(ArtifactStoreTest, ConcurrentWritersOfSameAndDifferentContent) {
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t) {
     threads.emplace_back([&, t] {
@@ -228,7 +246,7 @@ TEST_F(ArtifactStoreTest, ConcurrentWritersOfSameAndDifferentContent) {
   EXPECT_EQ(store_->Read(Sha256Hex("shared content")), "shared content");
 }
 
-TEST_F(ArtifactStoreTest, BadHashesAreInvalidArgumentAndLoseNothing) {
+TEST_P(ArtifactStoreTest, BadHashesAreInvalidArgumentAndLoseNothing) {
   store_->Put("hello");
   EXPECT_LOOM_ERROR(store_->Read(""), ErrorCode::kInvalidArgument, "artifact hash is empty");
   EXPECT_LOOM_ERROR(store_->Read("../../etc/passwd"), ErrorCode::kInvalidArgument, "64 lowercase hex");

@@ -4,7 +4,9 @@
 
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
+#include "server/store/pg_db.h"
 #include "store_test_util.h"
+#include "tests/server/store/postgres_server.h"
 
 namespace loom::server {
 namespace {
@@ -13,14 +15,21 @@ namespace fs = std::filesystem;
 
 std::string Key(char c) { return std::string(64, c); }
 
-class FabricCacheTest : public ::testing::Test {
+// Every test with the index in SQLite and in a real PostgreSQL (postgres_server.h).
+class FabricCacheTest : public ::testing::TestWithParam<SqlDialect> {
  protected:
-  FabricCacheTest() : dir_(FreshDataDir()) { Reopen(); }
+  FabricCacheTest() : dir_(FreshDataDir()) {
+    if (GetParam() == SqlDialect::kPostgres) conninfo_ = FreshPostgresDatabase();
+    Reopen();
+  }
 
   void Reopen(uint64_t budget_bytes = 0) {
     cache_.reset();
     artifacts_.reset();
-    artifacts_ = std::make_unique<ArtifactStore>(dir_, ArtifactStoreOptions{budget_bytes});
+    artifacts_ = GetParam() == SqlDialect::kPostgres
+                     ? std::make_unique<ArtifactStore>(dir_, std::make_unique<PgDb>(conninfo_),
+                                                       ArtifactStoreOptions{budget_bytes})
+                     : std::make_unique<ArtifactStore>(dir_, ArtifactStoreOptions{budget_bytes});
     cache_ = std::make_unique<FabricCache>(*artifacts_, clock_);
   }
 
@@ -40,11 +49,14 @@ class FabricCacheTest : public ::testing::Test {
 
   fs::path dir_;
   FakeClock clock_;
+  std::string conninfo_;  // on PostgreSQL
   std::unique_ptr<ArtifactStore> artifacts_;
   std::unique_ptr<FabricCache> cache_;
 };
 
-TEST_F(FabricCacheTest, PutGetListDelete) {
+INSTANTIATE_TEST_SUITE_P(Stores, FabricCacheTest, kBothStores, StoreName);
+
+TEST_P(FabricCacheTest, PutGetListDelete) {
   const FabricEntry put = PutFabric(Key('a'), 'a');
   ASSERT_EQ(put.files.size(), 3u);
   EXPECT_EQ(put.files[0].name, "lut.exr");  // sorted by name
@@ -78,7 +90,7 @@ TEST_F(FabricCacheTest, PutGetListDelete) {
   EXPECT_LOOM_ERROR(cache_->Delete(Key('a')), ErrorCode::kNotFound, "is not cached");
 }
 
-TEST_F(FabricCacheTest, CachedFilesArePinnedAgainstArtifactEviction) {
+TEST_P(FabricCacheTest, CachedFilesArePinnedAgainstArtifactEviction) {
   Reopen(/*budget_bytes=*/1);
   const FabricEntry entry = PutFabric(Key('a'), 'a');
   const auto loose = artifacts_->Put("a frame");
@@ -87,7 +99,7 @@ TEST_F(FabricCacheTest, CachedFilesArePinnedAgainstArtifactEviction) {
   EXPECT_TRUE(cache_->Get(Key('a')).has_value());
 }
 
-TEST_F(FabricCacheTest, CorruptArtifactEvictsTheWholeFabric) {
+TEST_P(FabricCacheTest, CorruptArtifactEvictsTheWholeFabric) {
   const FabricEntry entry = PutFabric(Key('a'), 'a');
   PutFabric(Key('b'), 'b');
   WriteFileAtomic(FileOf(entry.files[0].hash), "flipped bits");
@@ -108,7 +120,7 @@ TEST_F(FabricCacheTest, CorruptArtifactEvictsTheWholeFabric) {
   EXPECT_EQ(lookups.hits, 2);
 }
 
-TEST_F(FabricCacheTest, MissingArtifactEvictsTheWholeFabric) {
+TEST_P(FabricCacheTest, MissingArtifactEvictsTheWholeFabric) {
   const FabricEntry entry = PutFabric(Key('a'), 'a');
   fs::remove(FileOf(entry.files[1].hash));
   EXPECT_FALSE(cache_->Get(Key('a')).has_value());
@@ -116,7 +128,7 @@ TEST_F(FabricCacheTest, MissingArtifactEvictsTheWholeFabric) {
   EXPECT_EQ(artifacts_->TotalBytes(), 0u);
 }
 
-TEST_F(FabricCacheTest, EvictionRemovesWholeFabricsLeastRecentlyUsedFirstAndKeepsPinned) {
+TEST_P(FabricCacheTest, EvictionRemovesWholeFabricsLeastRecentlyUsedFirstAndKeepsPinned) {
   Reopen(/*budget_bytes=*/54);  // two fabrics of 27 bytes
   const FabricEntry a = PutFabric(Key('a'), 'a');
   const FabricEntry b = PutFabric(Key('b'), 'b');
@@ -141,7 +153,7 @@ TEST_F(FabricCacheTest, EvictionRemovesWholeFabricsLeastRecentlyUsedFirstAndKeep
   EXPECT_EQ(keys, (std::vector<std::string>{Key('e'), Key('d')}));
 }
 
-TEST_F(FabricCacheTest, PinnedFabricsAreKeptEvenOverBudget) {
+TEST_P(FabricCacheTest, PinnedFabricsAreKeptEvenOverBudget) {
   Reopen(/*budget_bytes=*/10);
   PutFabric(Key('a'), 'a');
   cache_->Pin(Key('a'));
@@ -151,7 +163,7 @@ TEST_F(FabricCacheTest, PinnedFabricsAreKeptEvenOverBudget) {
   EXPECT_TRUE(cache_->List().empty());
 }
 
-TEST_F(FabricCacheTest, ReplacingAnEntryKeepsItsPinAndReleasesOldFiles) {
+TEST_P(FabricCacheTest, ReplacingAnEntryKeepsItsPinAndReleasesOldFiles) {
   Reopen(/*budget_bytes=*/30);
   const FabricEntry old_entry = PutFabric(Key('a'), 'a');
   cache_->Pin(Key('a'));
@@ -164,7 +176,7 @@ TEST_F(FabricCacheTest, ReplacingAnEntryKeepsItsPinAndReleasesOldFiles) {
   EXPECT_EQ(cache_->Get(Key('a'))->files[2].hash, Sha256Hex(std::string(10, 'z')));
 }
 
-TEST_F(FabricCacheTest, IndexSurvivesReopen) {
+TEST_P(FabricCacheTest, IndexSurvivesReopen) {
   PutFabric(Key('a'), 'a');
   cache_->Pin(Key('a'));
   Reopen();
@@ -174,7 +186,7 @@ TEST_F(FabricCacheTest, IndexSurvivesReopen) {
   EXPECT_EQ(entry->total_bytes, 27u);
 }
 
-TEST_F(FabricCacheTest, BadInputIsRefusedAndTheCacheIsUnchanged) {
+TEST_P(FabricCacheTest, BadInputIsRefusedAndTheCacheIsUnchanged) {
   PutFabric(Key('a'), 'a');
   const auto hash = artifacts_->Put("x");
   EXPECT_LOOM_ERROR(cache_->Put("short", {{"f", hash}}, "{}"), ErrorCode::kInvalidArgument, "fabric key 'short'");

@@ -97,10 +97,7 @@ class JobQueueTest : public ::testing::TestWithParam<SqlDialect> {
   std::unique_ptr<JobQueue> queue_;
 };
 
-INSTANTIATE_TEST_SUITE_P(Stores, JobQueueTest, ::testing::Values(SqlDialect::kSqlite, SqlDialect::kPostgres),
-                         [](const ::testing::TestParamInfo<SqlDialect>& info) {
-                           return info.param == SqlDialect::kPostgres ? "postgresql" : "sqlite";
-                         });
+INSTANTIATE_TEST_SUITE_P(Stores, JobQueueTest, kBothStores, StoreName);
 
 TEST_P(JobQueueTest, HigherPriorityFirstThenFifo) {
   const auto a = queue_->Submit(Render(0)).id();

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/util/error.h"
+#include "server/store/sql_db.h"
 
 namespace loom::server {
 
@@ -19,6 +20,14 @@ inline std::filesystem::path FreshDataDir() {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// The tests that run on both databases: SQLite, and PostgreSQL (postgres_server.h).
+// INSTANTIATE_TEST_SUITE_P(Stores, Suite, kBothStores, StoreName) names them
+// Stores/Suite.Test/sqlite and …/postgresql.
+inline const auto kBothStores = ::testing::Values(SqlDialect::kSqlite, SqlDialect::kPostgres);
+inline std::string StoreName(const ::testing::TestParamInfo<SqlDialect>& info) {
+  return info.param == SqlDialect::kPostgres ? "postgresql" : "sqlite";
 }
 
 // Runs `statement`, expecting a loom::Error with `code` whose message contains `text`.
