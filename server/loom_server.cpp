@@ -12,9 +12,11 @@
 #include "rpc/channel.h"
 #include "server/http_gateway.h"
 #include "server/http_serving.h"
-#include "server/metrics_endpoint.h"
 #include "server/job_service.h"
+#include "server/metrics_endpoint.h"
 #include "server/refusal_log.h"
+#include "server/store/pg_db.h"
+#include "server/store/sqlite_db.h"
 #include "server/worker_service.h"
 
 namespace loom::server {
@@ -68,7 +70,37 @@ bool IsLoopbackAddress(const std::string& host_port) {
   return host.starts_with("127.") || host == "[::1]" || host == "localhost";
 }
 
+namespace {
+
+// One of the store's databases: a SQLite file under --data, or a connection to
+// the --store PostgreSQL.
+std::unique_ptr<SqlDb> OpenDatabase(const ServerOptions& options, const char* sqlite_file) {
+  if (options.store.empty()) return std::make_unique<SqliteDb>(options.data_dir / sqlite_file);
+  return std::make_unique<PgDb>(options.store);
+}
+
+// The --store PostgreSQL held for this server: a second server on it is refused, as
+// on one data directory (several servers on one store: not yet).
+std::unique_ptr<PgDb> HoldStore(const ServerOptions& options) {
+  if (options.store.empty()) return nullptr;
+  std::unique_ptr<PgDb> db;
+  try {
+    db = std::make_unique<PgDb>(options.store);
+  } catch (const Error& error) {
+    throw Error(error.code(), std::string("--store: ") + error.what());
+  }
+  auto held = db->Query("SELECT pg_try_advisory_lock(1280266062)");  // 'LOON': the server's own key
+  if (!held.Step() || held.Int(0) == 0) {
+    throw Error(ErrorCode::kFailedPrecondition,
+                "--store: the PostgreSQL store at " + db->where() + " is in use by another loom-server");
+  }
+  return db;
+}
+
+}  // namespace
+
 struct LoomServer::Store {
+  std::unique_ptr<PgDb> held;  // first: before any table is touched
   SystemClock clock;
   ArtifactStore artifacts;
   FabricCache cache;
@@ -78,9 +110,11 @@ struct LoomServer::Store {
   WorkerService worker_service;
 
   explicit Store(const ServerOptions& options)
-      : artifacts(options.data_dir, ArtifactStoreOptions{.budget_bytes = options.cache_bytes}),
+      : held(HoldStore(options)),
+        artifacts(options.data_dir, OpenDatabase(options, "cache.db"),
+                  ArtifactStoreOptions{.budget_bytes = options.cache_bytes}),
         cache(artifacts, clock),
-        queue(options.data_dir, clock,
+        queue(OpenDatabase(options, "jobs.db"), clock,
               JobQueueOptions{.lease_duration_ms = static_cast<int64_t>(options.lease_seconds * 1000),
                               .stuck_after_ms = static_cast<int64_t>(options.stuck_seconds * 1000),
                               .default_max_attempts = options.max_attempts,

@@ -34,6 +34,10 @@ class MetricsEndpoint;
 
 struct ServerOptions {
   std::filesystem::path data_dir;
+  // The queue's and the cache's tables: "" SQLite under data_dir (the default), or a
+  // PostgreSQL URI (postgresql://…) or libpq connection string; the artifact files
+  // stay under data_dir either way. One server per store for now.
+  std::string store;
   // host:port; port 0 picks a free one (tests). Without tokens only loopback
   // addresses are accepted.
   std::string listen = "127.0.0.1:7450";

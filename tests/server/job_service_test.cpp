@@ -24,6 +24,7 @@
 #include "rpc/artifact_transfer.h"
 #include "rpc/channel.h"
 #include "tests/server/service_fixture.h"
+#include "tests/server/store/postgres_server.h"
 #include "worker/worker_loop.h"
 
 namespace loom::server {
@@ -47,6 +48,37 @@ TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kUnavailable);
     EXPECT_THAT(e.what(), HasSubstr("cannot listen on " + options.listen));
+  }
+  std::filesystem::remove_all(options.data_dir);
+}
+
+TEST_F(ServiceTest, ASecondServerOnOnePostgresStoreIsRefusedAndABadStoreNamesTheFlag) {
+  ServerOptions options;
+  options.local_workers = 0;
+  options.store = FreshPostgresDatabase();
+  StartServer(options);
+  client::JobClient client = Client();
+  const std::string id = client.Submit(PrecomputeRequest()).job().id();
+  options.data_dir = data_dir_.string() + "-second";
+  options.listen = "127.0.0.1:0";
+  try {
+    LoomServer second(options);
+    FAIL() << "a second server started on the same store";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFailedPrecondition);
+    EXPECT_THAT(e.what(), HasSubstr("--store: the PostgreSQL store at "));
+    EXPECT_THAT(e.what(), HasSubstr("is in use by another loom-server"));
+  }
+  // Nothing stored was lost; the job is the PostgreSQL store's, not a data directory's.
+  EXPECT_EQ(client.Get(id).state(), v1::JOB_STATE_QUEUED);
+  EXPECT_FALSE(std::filesystem::exists(data_dir_ / "jobs.db"));
+  options.store = "host=/nonexistent port=1 dbname=loom connect_timeout=1";
+  try {
+    LoomServer bad(options);
+    FAIL() << "a server started on an unreachable store";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kUnavailable);
+    EXPECT_THAT(e.what(), HasSubstr("--store: PostgreSQL at /nonexistent:1/loom: cannot connect"));
   }
   std::filesystem::remove_all(options.data_dir);
 }

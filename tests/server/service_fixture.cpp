@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 
 #include "core/util/file_io.h"
 #include "rpc/channel.h"
+#include "tests/server/store/postgres_server.h"
 
 namespace loom::server {
 
@@ -24,6 +26,11 @@ void ServiceTest::StartServer(ServerOptions options) {
               ("loom-service-test-" + std::to_string(::getpid()) + "-" + std::to_string(next++));
   std::filesystem::remove_all(data_dir_);
   options.data_dir = data_dir_;
+  // The same tests on PostgreSQL (ctest -L postgresql): a database of their own.
+  if (const char* store = std::getenv("LOOM_TEST_STORE");
+      store && std::string(store) == "postgresql" && options.store.empty()) {
+    options.store = FreshPostgresDatabase();
+  }
   options.listen = "127.0.0.1:0";
   if (options.lease_seconds == ServerOptions().lease_seconds) options.lease_seconds = 3;
   server_ = std::make_unique<LoomServer>(options);
