@@ -1,8 +1,8 @@
 #pragma once
 // The durable job queue (DESIGN.md "Server, worker, client"; issue #6).
 //
-// Every job lives in one SQLite database, DATA/jobs.db, in WAL mode: a committed
-// change survives kill -9 of the server. The queue is the single authority on a
+// Every job lives in one database: SQLite's DATA/jobs.db in WAL mode, or PostgreSQL
+// (sql_db.h); a committed change survives kill -9 of the server. The queue is the single authority on a
 // job's state; the gRPC service, the workers' leases and WatchJob are views of it.
 //
 // States: QUEUED -> LEASED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED.
@@ -35,7 +35,9 @@
 // (attempt 1 of 3)", "lease expired: ...") into the job's log, next to the
 // worker's lines from AppendLog.
 //
-// Thread-safe: one connection behind one mutex. One process per data directory.
+// Thread-safe: one connection behind one mutex. One process per SQLite data
+// directory; several queues on one PostgreSQL lease each job once (their writes take
+// turns), though a queue opened there still requeues every lease, as one server's.
 
 #include <array>
 #include <chrono>
