@@ -259,13 +259,7 @@ HttpGateway::HttpGateway(HttpOptions options, std::shared_ptr<grpc::Channel> cha
   server.Get(R"(/api/v1/artifacts/([0-9a-f]{64}))",
              [&routes](Request req, Response res) { routes.Artifact(req, res); });
   server.set_exception_handler([](Request req, Response res, std::exception_ptr error) {
-    std::string what = "unknown";
-    try {
-      std::rethrow_exception(error);
-    } catch (const std::exception& e) {
-      what = e.what();
-    } catch (...) {
-    }
+    const std::string what = ExceptionText(error);
     spdlog::error("http {} {}: internal error: {}", req.method, req.path, what);
     SendError(res, 500, "INTERNAL", "internal error: " + what);
   });

@@ -26,6 +26,16 @@ HostPort ParseHostPort(const std::string& flag, const std::string& listen) {
   return {listen, host, port};
 }
 
+std::string ExceptionText(std::exception_ptr error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown";
+  }
+}
+
 HttpServing::HttpServing(httplib::Server& server, const std::string& flag, const HostPort& address)
     : server_(server) {
   // httplib's default also sets SO_REUSEPORT, with which a second server on a port

@@ -3,6 +3,7 @@
 // what the dashboard (http_gateway.h) and the metrics endpoint (metrics_endpoint.h)
 // share.
 
+#include <exception>
 #include <memory>
 #include <string>
 #include <thread>
@@ -22,6 +23,10 @@ struct HostPort {
 // "host:port" or "[v6]:port", port in [0, 65535]; Error(kInvalidArgument) naming
 // `flag` otherwise.
 HostPort ParseHostPort(const std::string& flag, const std::string& listen);
+
+// What an exception a handler threw says ("unknown" for one that is no std::exception),
+// for httplib's exception handler.
+std::string ExceptionText(std::exception_ptr error);
 
 class HttpServing {
  public:

@@ -18,13 +18,7 @@ MetricsEndpoint::MetricsEndpoint(const std::string& listen, const ServiceState& 
     res.set_content(state.metrics.Scrape(state), "text/plain; version=0.0.4; charset=utf-8");
   });
   server_->set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr error) {
-    std::string what = "unknown";
-    try {
-      std::rethrow_exception(error);
-    } catch (const std::exception& e) {
-      what = e.what();
-    } catch (...) {
-    }
+    const std::string what = ExceptionText(error);
     spdlog::error("metrics: {}", what);
     res.status = 500;
     res.set_content("internal error: " + what + "\n", "text/plain");
