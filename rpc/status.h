@@ -25,6 +25,9 @@ grpc::Status ToStatus(const Error& error);
 // ("SubmitJob: ..."). An unreachable server says which address was tried.
 Error FromStatus(const grpc::Status& status, std::string_view call);
 
+// "OK", "NOT_FOUND", …: gRPC's names of its status codes.
+std::string_view StatusCodeName(grpc::StatusCode code);
+
 // Throws FromStatus(status, call) unless status is OK.
 void ThrowIfFailed(const grpc::Status& status, std::string_view call);
 

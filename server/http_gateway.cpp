@@ -6,7 +6,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <atomic>
 #include <functional>
 #include <map>
 #include <string_view>
@@ -15,6 +14,7 @@
 #include "loom/v1/service.grpc.pb.h"
 #include "rpc/auth.h"
 #include "rpc/channel.h"
+#include "rpc/status.h"
 #include "server/http_serving.h"
 
 namespace loom::server {
@@ -89,15 +89,19 @@ int HttpStatus(grpc::StatusCode code) {
   }
 }
 
+// The codes the dashboard names; any other reads INTERNAL.
 std::string CodeName(grpc::StatusCode code) {
-  static const std::map<grpc::StatusCode, std::string> names = {
-      {grpc::StatusCode::INVALID_ARGUMENT, "INVALID_ARGUMENT"}, {grpc::StatusCode::UNAUTHENTICATED, "UNAUTHENTICATED"},
-      {grpc::StatusCode::NOT_FOUND, "NOT_FOUND"}, {grpc::StatusCode::FAILED_PRECONDITION, "FAILED_PRECONDITION"},
-      {grpc::StatusCode::UNAVAILABLE, "UNAVAILABLE"}, {grpc::StatusCode::DEADLINE_EXCEEDED, "DEADLINE_EXCEEDED"},
-      {grpc::StatusCode::RESOURCE_EXHAUSTED, "RESOURCE_EXHAUSTED"}, {grpc::StatusCode::OUT_OF_RANGE, "OUT_OF_RANGE"},
-  };
-  const auto found = names.find(code);
-  return found == names.end() ? "INTERNAL" : found->second;
+  switch (code) {
+    case grpc::StatusCode::INVALID_ARGUMENT:
+    case grpc::StatusCode::UNAUTHENTICATED:
+    case grpc::StatusCode::NOT_FOUND:
+    case grpc::StatusCode::FAILED_PRECONDITION:
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+    case grpc::StatusCode::RESOURCE_EXHAUSTED:
+    case grpc::StatusCode::OUT_OF_RANGE: return std::string(rpc::StatusCodeName(code));
+    default: return "INTERNAL";
+  }
 }
 
 void SendError(httplib::Response& res, int http_status, const std::string& code, const std::string& message) {

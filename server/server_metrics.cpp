@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/version.h"
+#include "rpc/status.h"
 #include "server/service_state.h"
 
 namespace loom::server {
@@ -159,7 +160,7 @@ void ServerMetrics::ObserveRpc(std::string_view service, std::string_view method
                                double seconds) {
   rpc_seconds_
       .Add({{"service", std::string(service)}, {"method", std::string(method)},
-            {"code", std::string(StatusCodeName(code))}},
+            {"code", std::string(rpc::StatusCodeName(code))}},
            kRpcBuckets)
       .Observe(seconds);
 }
@@ -179,29 +180,6 @@ std::string ServerMetrics::Scrape(const ServiceState& state) const {
   std::vector<MetricFamily> families = registry_->Collect();
   for (MetricFamily& family : StoreFamilies(state)) families.push_back(std::move(family));
   return prometheus::TextSerializer().Serialize(families);
-}
-
-std::string_view StatusCodeName(grpc::StatusCode code) {
-  switch (code) {
-    case grpc::StatusCode::OK: return "OK";
-    case grpc::StatusCode::CANCELLED: return "CANCELLED";
-    case grpc::StatusCode::UNKNOWN: return "UNKNOWN";
-    case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
-    case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
-    case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
-    case grpc::StatusCode::ALREADY_EXISTS: return "ALREADY_EXISTS";
-    case grpc::StatusCode::PERMISSION_DENIED: return "PERMISSION_DENIED";
-    case grpc::StatusCode::UNAUTHENTICATED: return "UNAUTHENTICATED";
-    case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
-    case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
-    case grpc::StatusCode::ABORTED: return "ABORTED";
-    case grpc::StatusCode::OUT_OF_RANGE: return "OUT_OF_RANGE";
-    case grpc::StatusCode::UNIMPLEMENTED: return "UNIMPLEMENTED";
-    case grpc::StatusCode::INTERNAL: return "INTERNAL";
-    case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
-    case grpc::StatusCode::DATA_LOSS: return "DATA_LOSS";
-    default: return "UNKNOWN";
-  }
 }
 
 }  // namespace loom::server

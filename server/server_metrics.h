@@ -49,7 +49,4 @@ class ServerMetrics {
   prometheus::Family<prometheus::Histogram>& job_run_seconds_;
 };
 
-// "OK", "NOT_FOUND", …: gRPC's names of its status codes.
-std::string_view StatusCodeName(grpc::StatusCode code);
-
 }  // namespace loom::server

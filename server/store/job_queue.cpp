@@ -397,8 +397,10 @@ v1::Job JobQueue::ToJob(const Row& row) const {
   for (std::string& hash : SplitLines(row.results)) job.add_result_artifacts(std::move(hash));
   job.set_error(row.error);
   job.set_client_request_id(row.client_request_id);
-  for (auto deps = db_->Query(db_->dialect() == SqlDialect::kPostgres ? "SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY id"
-                                                                : "SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY rowid", row.seq);
+  // In the order given: PostgreSQL's table numbers its rows, SQLite's rowid does.
+  const char* given_order = db_->dialect() == SqlDialect::kPostgres ? "id" : "rowid";
+  for (auto deps = db_->Query(std::string("SELECT dep_seq FROM job_deps WHERE job_seq = ? ORDER BY ") + given_order,
+                              row.seq);
        deps.Step();) {
     job.add_depends_on(JobId(deps.Int(0)));
   }
@@ -494,7 +496,6 @@ v1::Job JobQueue::InsertJob(const v1::Job& job, int64_t now_ms) {
   return ToJob(*FindRow(JobId(seq)));
 }
 
-// A lease ended without success: requeue, or end the job if it cannot go on.
 QueueCounters& QueueCounters::operator+=(const QueueCounters& other) {
   leases += other.leases;
   lease_expiries += other.lease_expiries;
@@ -504,6 +505,7 @@ QueueCounters& QueueCounters::operator+=(const QueueCounters& other) {
   return *this;
 }
 
+// A lease ended without success: requeue, or end the job if it cannot go on.
 void JobQueue::EndAttempt(const Row& row, const std::string& error, int64_t now_ms) {
   ++pending_.failed_attempts;
   const std::string attempt =
@@ -1009,9 +1011,7 @@ QueueDepth JobQueue::Depth() const {
   };
   for (auto query = db_->Query("SELECT state, kind, COUNT(*) FROM jobs GROUP BY state, kind"); query.Step();) {
     const int64_t state = query.Int(0), kind = query.Int(1), count = query.Int(2);
-    if (!known(state, kind)) continue;
-    depth.by_state[state] += count;
-    depth.by_state_kind[state][kind] = count;
+    if (known(state, kind)) depth.by_state_kind[state][kind] = count;
   }
   for (auto ready = db_->Query(
            "SELECT kind, COUNT(*) FROM jobs j WHERE state = ?1 AND NOT EXISTS (SELECT 1 FROM job_deps d "
@@ -1019,9 +1019,7 @@ QueueDepth JobQueue::Depth() const {
            static_cast<int>(v1::JOB_STATE_QUEUED), static_cast<int>(v1::JOB_STATE_SUCCEEDED));
        ready.Step();) {
     const int64_t kind = ready.Int(0), count = ready.Int(1);
-    if (!known(v1::JOB_STATE_QUEUED, kind)) continue;
-    depth.ready += count;
-    depth.ready_by_kind[kind] = count;
+    if (known(v1::JOB_STATE_QUEUED, kind)) depth.ready_by_kind[kind] = count;
   }
   return depth;
 }

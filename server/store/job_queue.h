@@ -47,6 +47,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,13 +106,15 @@ struct JobPage {
 };
 
 struct QueueDepth {
-  std::array<int64_t, v1::JobState_ARRAYSIZE> by_state{};  // indexed by JobState
-  int64_t ready = 0;  // QUEUED with every dependency SUCCEEDED: leasable now
-  // The same by kind: [state][kind] and [kind], indexed by JobState and JobKind.
+  // Jobs by [state][kind], indexed by JobState and JobKind.
   std::array<std::array<int64_t, v1::JobKind_ARRAYSIZE>, v1::JobState_ARRAYSIZE> by_state_kind{};
+  // QUEUED with every dependency SUCCEEDED (leasable now), by kind.
   std::array<int64_t, v1::JobKind_ARRAYSIZE> ready_by_kind{};
 
-  int64_t Count(v1::JobState state) const { return by_state[state]; }
+  int64_t Count(v1::JobState state) const {
+    return std::accumulate(by_state_kind[state].begin(), by_state_kind[state].end(), int64_t{0});
+  }
+  int64_t Ready() const { return std::accumulate(ready_by_kind.begin(), ready_by_kind.end(), int64_t{0}); }
 };
 
 // What this queue did since it was opened, counted by this process only (for

@@ -29,11 +29,6 @@ Statement::Statement(sqlite3* db, std::string_view sql) : db_(db), sql_(sql) {
   if (rc != SQLITE_OK) Fail(db_, rc, sql_);
 }
 
-Statement::Statement(Statement&& other) noexcept
-    : db_(other.db_), stmt_(other.stmt_), sql_(std::move(other.sql_)) {
-  other.stmt_ = nullptr;
-}
-
 Statement::~Statement() { sqlite3_finalize(stmt_); }
 
 void Statement::Bind(int index, const SqlValue& value) {

@@ -25,8 +25,8 @@ namespace loom::server {
 class Statement final : public SqlRows {
  public:
   Statement(sqlite3* db, std::string_view sql);
-  Statement(Statement&& other) noexcept;
-  Statement& operator=(Statement&&) = delete;
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
   ~Statement() override;
 
   // Binds parameter `index` (from 1). A Blob binds as TEXT with its length: any

@@ -182,7 +182,7 @@ TEST_P(JobQueueTest, RenderWaitsUntilEveryDependencySucceeded) {
   const auto p2 = queue_->SubmitPrecomputeOnce(PrecomputePayload(), std::string(64, 'b'), 0);
   const auto render = queue_->Submit(Render(10, {p1.id(), p2.id()}));
   EXPECT_EQ(render.depends_on_size(), 2);
-  EXPECT_EQ(queue_->Depth().ready, 2);
+  EXPECT_EQ(queue_->Depth().Ready(), 2);
 
   const JobLease l1 = MustLease("w1");
   const JobLease l2 = MustLease("w1");
@@ -858,7 +858,7 @@ TEST_P(JobQueueTest, DepthCountsStatesAndReadyJobs) {
   EXPECT_EQ(depth.Count(v1::JOB_STATE_QUEUED), 2);
   EXPECT_EQ(depth.Count(v1::JOB_STATE_LEASED), 1);
   EXPECT_EQ(depth.Count(v1::JOB_STATE_CANCELLED), 1);
-  EXPECT_EQ(depth.ready, 1);  // the render waiting on the precompute is not ready
+  EXPECT_EQ(depth.Ready(), 1);  // the render waiting on the precompute is not ready
   // The same by kind.
   EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_QUEUED][v1::JOB_KIND_RENDER], 2);
   EXPECT_EQ(depth.by_state_kind[v1::JOB_STATE_QUEUED][v1::JOB_KIND_PRECOMPUTE], 0);
