@@ -334,7 +334,7 @@ grpc::Status JobService::GetServerInfo(grpc::ServerContext* context, const v1::G
     response->set_queued_jobs(depth.Count(v1::JOB_STATE_QUEUED));
     response->set_running_jobs(depth.Count(v1::JOB_STATE_LEASED) + depth.Count(v1::JOB_STATE_RUNNING));
     response->set_registered_workers(state_.workers.size());
-    response->set_cached_fabrics(state_.cache.List().size());
+    response->set_cached_fabrics(state_.cache.Totals().fabrics);
     response->set_auth_required(!state_.client_token.empty());
     response->set_tls(state_.tls);
     response->set_uptime_ms(state_.clock.NowMs() - state_.started_ms);

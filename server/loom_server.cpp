@@ -73,34 +73,19 @@ bool IsLoopbackAddress(const std::string& host_port) {
 namespace {
 
 // One of the store's databases: a SQLite file under --data, or a connection to
-// the --store PostgreSQL.
+// the --store PostgreSQL (which any number of servers may share).
 std::unique_ptr<SqlDb> OpenDatabase(const ServerOptions& options, const char* sqlite_file) {
   if (options.store.empty()) return std::make_unique<SqliteDb>(options.data_dir / sqlite_file);
-  return std::make_unique<PgDb>(options.store);
-}
-
-// The --store PostgreSQL held for this server: a second server on it is refused, as
-// on one data directory (several servers on one store: not yet).
-std::unique_ptr<PgDb> HoldStore(const ServerOptions& options) {
-  if (options.store.empty()) return nullptr;
-  std::unique_ptr<PgDb> db;
   try {
-    db = std::make_unique<PgDb>(options.store);
+    return std::make_unique<PgDb>(options.store);
   } catch (const Error& error) {
     throw Error(error.code(), std::string("--store: ") + error.what());
   }
-  auto held = db->Query("SELECT pg_try_advisory_lock(1280266062)");  // 'LOON': the server's own key
-  if (!held.Step() || held.Int(0) == 0) {
-    throw Error(ErrorCode::kFailedPrecondition,
-                "--store: the PostgreSQL store at " + db->where() + " is in use by another loom-server");
-  }
-  return db;
 }
 
 }  // namespace
 
 struct LoomServer::Store {
-  std::unique_ptr<PgDb> held;  // first: before any table is touched
   SystemClock clock;
   ArtifactStore artifacts;
   FabricCache cache;
@@ -110,8 +95,7 @@ struct LoomServer::Store {
   WorkerService worker_service;
 
   explicit Store(const ServerOptions& options)
-      : held(HoldStore(options)),
-        artifacts(options.data_dir, OpenDatabase(options, "cache.db"),
+      : artifacts(options.data_dir, OpenDatabase(options, "cache.db"),
                   ArtifactStoreOptions{.budget_bytes = options.cache_bytes}),
         cache(artifacts, clock),
         queue(OpenDatabase(options, "jobs.db"), clock,

@@ -79,8 +79,8 @@ int Main(int argc, char** argv) {
                  "over HTTPS with --tls-cert (docs/dashboard.md)");
   app.add_option("--store", options.store,
                  "Keep the job queue and the cache index in this PostgreSQL (postgresql://USER@HOST/DB or a libpq "
-                 "connection string) instead of SQLite under --data; artifact files stay under --data "
-                 "(docs/operations.md \"PostgreSQL\")");
+                 "connection string) instead of SQLite under --data; artifact files stay under --data. Any number "
+                 "of servers may share one store and one --data volume (docs/operations.md \"Several servers\")");
   app.add_option("--metrics", options.metrics_listen,
                  "Serve GET /metrics for Prometheus on this address (host:port; port 0 picks one): plain HTTP "
                  "without a token, for a cluster-internal port (docs/operations.md \"Metrics\")");

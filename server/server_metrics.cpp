@@ -98,12 +98,11 @@ std::vector<MetricFamily> StoreFamilies(const ServiceState& state) {
       .Add({{"result", "hit"}}, lookups.hits)
       .Add({{"result", "miss"}}, lookups.misses)
       .Add({{"result", "broken"}}, lookups.broken);
-  double fabric_bytes = 0;
-  const std::vector<FabricEntry> fabrics = state.cache.List();
-  for (const FabricEntry& entry : fabrics) fabric_bytes += static_cast<double>(entry.total_bytes);
+  const CacheTotals fabrics = state.cache.Totals();
   add("loom_fabric_cache_fabrics", "Fabrics in the cache.", MetricType::Gauge)
-      .Add({}, static_cast<double>(fabrics.size()));
-  add("loom_fabric_cache_bytes", "Bytes of the cached fabrics' files.", MetricType::Gauge).Add({}, fabric_bytes);
+      .Add({}, static_cast<double>(fabrics.fabrics));
+  add("loom_fabric_cache_bytes", "Bytes of the cached fabrics' files.", MetricType::Gauge)
+      .Add({}, static_cast<double>(fabrics.bytes));
   add("loom_artifact_store_bytes", "Bytes in the artifact store: fabrics, meshes, frames.", MetricType::Gauge)
       .Add({}, static_cast<double>(state.artifacts.TotalBytes()));
   add("loom_artifact_store_budget_bytes", "The artifact store's byte budget (0: none).", MetricType::Gauge)

@@ -123,7 +123,6 @@ std::string ArtifactWriter::Commit(std::string_view expected_sha256) {
 // --- ArtifactStore --------------------------------------------------------------------
 
 ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, ArtifactStoreOptions options)
-    // The database first: its lock keeps a second process from emptying our tmp dir.
     : ArtifactStore(data_dir, std::make_unique<SqliteDb>(data_dir / "cache.db"), options) {}
 
 ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, std::unique_ptr<SqlDb> db,
@@ -132,11 +131,6 @@ ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, std::unique_
   std::error_code ec;
   std::filesystem::create_directories(artifacts_dir_, ec);
   CheckFilesystem(ec, "cannot create " + artifacts_dir_.string());
-  // Temp files are only ever half-written uploads of a previous process.
-  std::filesystem::remove_all(tmp_dir_, ec);
-  CheckFilesystem(ec, "cannot empty " + tmp_dir_.string());
-  std::filesystem::create_directories(tmp_dir_, ec);
-  CheckFilesystem(ec, "cannot create " + tmp_dir_.string());
   db_->Exec(kSchema);
   std::vector<std::string> vanished;
   for (auto rows = db_->Query("SELECT hash FROM artifacts"); rows.Step();) {
@@ -158,7 +152,7 @@ ArtifactWriter ArtifactStore::NewWriter() {
     std::lock_guard lock(mu_);
     n = next_temp_++;
   }
-  return ArtifactWriter(*this, tmp_dir_ / ("upload-" + std::to_string(::getpid()) + "-" + std::to_string(n)));
+  return ArtifactWriter(*this, tmp_dir_.path() / ("upload-" + std::to_string(n)));
 }
 
 std::string ArtifactStore::Put(std::string_view bytes) {
@@ -322,8 +316,10 @@ void ArtifactStore::Pin(std::string_view hash, std::string_view owner) {
   if (owner.empty()) throw Error(ErrorCode::kInvalidArgument, "pin owner is empty");
   std::lock_guard lock(mu_);
   const std::string key(hash);
+  SqlDb::Transaction txn(*db_);  // no other server evicts it between the check and the pin
   if (!HasLocked(key)) throw Error(ErrorCode::kNotFound, "artifact " + key + " is not in the store");
   db_->Run("INSERT INTO artifact_pins (hash, owner) VALUES (?, ?) ON CONFLICT DO NOTHING", key, owner);
+  txn.Commit();
 }
 
 void ArtifactStore::Unpin(std::string_view hash, std::string_view owner) {
@@ -352,17 +348,21 @@ void ArtifactStore::Remove(std::string_view hash) {
   CheckArtifactHash(hash);
   std::lock_guard lock(mu_);
   const std::string key(hash);
+  SqlDb::Transaction txn(*db_);  // no other server pins it between the check and the removal
   if (auto pin = db_->Query("SELECT owner FROM artifact_pins WHERE hash = ? LIMIT 1", key); pin.Step()) {
     throw Error(ErrorCode::kFailedPrecondition, "artifact " + key + " is pinned by " + pin.Text(0));
   }
   if (!HasLocked(key)) throw Error(ErrorCode::kNotFound, "artifact " + key + " is not in the store");
   ForgetLocked(key);
+  txn.Commit();
 }
 
 std::vector<std::string> ArtifactStore::Evict() {
   std::lock_guard lock(mu_);
   std::vector<std::string> evicted;
+  SqlDb::Transaction txn(*db_);  // no other server pins one between the choice and the removal
   EvictLocked(evicted);
+  txn.Commit();
   return evicted;
 }
 

@@ -3,9 +3,9 @@
 //
 // An artifact is named by the SHA-256 of its bytes (64 lowercase hex digits) and
 // stored at DATA/artifacts/<first two hex digits>/<hash>. Writes go to a temp file
-// under DATA/tmp and are renamed into place only after the checksum is verified,
-// so a reader never sees a partial artifact; temp files left by a crash are removed
-// when the store is opened. Reads verify the checksum again: a file that rotted or
+// in this process's own directory under DATA/tmp (own_temp_dir.h) and are renamed
+// into place only after the checksum is verified, so a reader never sees a partial
+// artifact; temp files left by a crash are removed when a store is next opened. Reads verify the checksum again: a file that rotted or
 // was tampered with is deleted and reported as kNotFound ("... was corrupt and has
 // been removed"), so the caller treats it as missing and recomputes or re-uploads.
 //
@@ -17,8 +17,14 @@
 // job's meshes as "job:<id>" until the job ends and its frames as "result:<id>" for
 // a while after (server/service_state.h).
 //
+// Several processes may share DATA (servers on one PostgreSQL catalogue, a shared
+// volume): the content-addressed files make concurrent writes of one artifact
+// harmless (each rename puts the same bytes in place), and a pin and an eviction or
+// removal each check and change in one writer transaction, so no server evicts an
+// artifact another has just pinned.
+//
 // Bad hashes (empty, wrong length, not lowercase hex) are kInvalidArgument.
-// Thread-safe; one process per data directory.
+// Thread-safe; one process per data directory on SQLite (its catalogue's lock).
 
 #include <cstdint>
 #include <filesystem>
@@ -30,6 +36,7 @@
 #include <vector>
 
 #include "core/util/sha256.h"
+#include "server/store/own_temp_dir.h"
 
 namespace loom::server {
 
@@ -76,8 +83,8 @@ struct ArtifactStoreOptions {
 
 class ArtifactStore {
  public:
-  // Opens (creating if needed) DATA/cache.db, DATA/artifacts/ and DATA/tmp/; empties
-  // DATA/tmp; forgets catalogue rows whose file has disappeared.
+  // Opens (creating if needed) DATA/cache.db, DATA/artifacts/ and a temp directory
+  // of its own under DATA/tmp; forgets catalogue rows whose file has disappeared.
   explicit ArtifactStore(const std::filesystem::path& data_dir, ArtifactStoreOptions options = {});
   // The same with the catalogue in another database (server/store/sql_db.h; the files
   // stay under DATA).
@@ -149,7 +156,7 @@ class ArtifactStore {
 
   const ArtifactStoreOptions options_;
   const std::filesystem::path artifacts_dir_;
-  const std::filesystem::path tmp_dir_;
+  const OwnTempDir tmp_dir_;
   std::mutex mu_;
   std::unique_ptr<SqlDb> db_;
   uint64_t next_temp_ = 0;

@@ -161,6 +161,15 @@ std::vector<FabricEntry> FabricCache::List() {
   return entries;
 }
 
+CacheTotals FabricCache::Totals() {
+  std::lock_guard lock(artifacts_.mu_);
+  auto query = artifacts_.db_->Query(
+      "SELECT COUNT(DISTINCT f.key), COALESCE(SUM(a.size), 0) FROM fabrics f "
+      "LEFT JOIN fabric_files ff ON ff.key = f.key LEFT JOIN artifacts a ON a.hash = ff.hash");
+  query.Step();
+  return {query.Int(0), static_cast<uint64_t>(query.Int(1))};
+}
+
 void FabricCache::Delete(const std::string& key) {
   CheckArtifactHash(key, "fabric key");
   std::lock_guard lock(artifacts_.mu_);

@@ -43,6 +43,11 @@ struct FabricEntry {
   int64_t last_used_ms = 0;
 };
 
+struct CacheTotals {
+  int64_t fabrics = 0;
+  uint64_t bytes = 0;
+};
+
 // Get's answers since the cache was opened (this process only; for metrics).
 struct CacheLookups {
   int64_t hits = 0;
@@ -69,6 +74,8 @@ class FabricCache {
 
   // Every entry, most recently used first. No verification, recency unchanged.
   std::vector<FabricEntry> List();
+  // How many fabrics List would return and the sum of their total_bytes, in one query.
+  CacheTotals Totals();
 
   CacheLookups Lookups() const;
 

@@ -2,6 +2,7 @@
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <charconv>
@@ -131,7 +132,15 @@ CREATE TABLE IF NOT EXISTS live_workers (
 CREATE TABLE IF NOT EXISTS schema_migrations (
   version INTEGER PRIMARY KEY,
   applied_ms BIGINT NOT NULL);
+CREATE SEQUENCE IF NOT EXISTS job_version;  -- version 2: every server's jobs.version from one sequence
 )sql";
+
+// The last version any server on a PostgreSQL store gave out (0: none yet).
+const std::string kStoredPgVersion = "(SELECT CASE WHEN is_called THEN last_value ELSE 0 END FROM job_version)";
+
+// The channel on which a PostgreSQL queue announces its commits (payload: the
+// version they reached).
+constexpr const char* kChangeChannel = "loom_jobs";
 
 constexpr const char* kRowColumns =
     "seq, kind, state, priority, attempts, max_attempts, payload, client_request_id, fabric_key, "
@@ -280,11 +289,15 @@ struct JobQueue::Row {
 // it rolls back and leaves the queue as it was.
 class JobQueue::Txn {
  public:
-  explicit Txn(JobQueue& queue) : queue_(queue), lock_(queue.mu_), txn_(*queue.db_) {
+  explicit Txn(JobQueue& queue)
+      : queue_(queue), lock_(queue.mu_), txn_(*queue.db_), version_at_begin_(queue.version_) {
     queue_.ended_.clear();
     queue_.pending_ = {};
   }
   void Commit() {
+    if (queue_.version_ != version_at_begin_) {
+      queue_.db_->Notify(kChangeChannel, std::to_string(queue_.version_));  // other servers' waiters
+    }
     txn_.Commit();
     queue_.counters_ += std::exchange(queue_.pending_, {});
     queue_.changed_.notify_all();
@@ -301,6 +314,7 @@ class JobQueue::Txn {
   JobQueue& queue_;
   std::unique_lock<std::mutex> lock_;
   SqlDb::Transaction txn_;
+  const uint64_t version_at_begin_;
 };
 
 JobQueue::JobQueue(const std::filesystem::path& data_dir, const Clock& clock, JobQueueOptions options)
@@ -319,8 +333,10 @@ JobQueue::JobQueue(std::unique_ptr<SqlDb> db, const Clock& clock, JobQueueOption
   if (db_->dialect() == SqlDialect::kPostgres) {
     SqlDb::Transaction schema(*db_);  // several servers may start at once
     db_->Exec(kPostgresSchema);
-    db_->Run("INSERT INTO schema_migrations (version, applied_ms) VALUES (1, ?) ON CONFLICT DO NOTHING",
-             clock_.NowMs());
+    db_->Run("INSERT INTO schema_migrations (version, applied_ms) VALUES (1, ?), (2, ?) ON CONFLICT DO NOTHING",
+             clock_.NowMs(), clock_.NowMs());
+    // A store from before version 2 numbered its jobs' versions per server.
+    db_->Run("SELECT setval('job_version', MAX(version)) FROM jobs HAVING MAX(version) > " + kStoredPgVersion);
     schema.Commit();
   } else {
     db_->Exec(kSchema);
@@ -331,10 +347,12 @@ JobQueue::JobQueue(std::unique_ptr<SqlDb> db, const Clock& clock, JobQueueOption
     AddColumnIfMissing(*db_, "job_failed_workers", "failures", "INTEGER NOT NULL DEFAULT 1");
     AddColumnIfMissing(*db_, "jobs", "fabric_keys", "TEXT NOT NULL DEFAULT ''");
   }
-  {
-    auto max_version = db_->Query("SELECT COALESCE(MAX(version), 0) FROM jobs");
-    max_version.Step();
-    version_ = static_cast<uint64_t>(max_version.Int(0));
+  version_ = StoredVersion();
+  if (db_->dialect() == SqlDialect::kPostgres) {
+    // Other servers' commits wake this one's waiters. Its own leases outlive it: the
+    // workers holding them report through any server, and expiry ends the dead ones.
+    listener_ = db_->Listen(kChangeChannel, [this](const std::string& payload) { HeardOfChange(payload); });
+    return;
   }
   // Leases held before a restart are void: their workers talk to a new process.
   Txn txn(*this);
@@ -421,8 +439,34 @@ std::string JobQueue::TextBytes() const {
   return db_->dialect() == SqlDialect::kPostgres ? "octet_length(text)" : "LENGTH(CAST(text AS BLOB))";
 }
 
-void JobQueue::Touch(int64_t seq) {
-  db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", ++version_, seq);
+uint64_t JobQueue::StoredVersion() const {
+  auto query = db_->Query(db_->dialect() == SqlDialect::kPostgres ? "SELECT " + kStoredPgVersion
+                                                                  : std::string("SELECT COALESCE(MAX(version), 0) FROM jobs"));
+  query.Step();
+  return static_cast<uint64_t>(query.Int(0));
+}
+
+uint64_t JobQueue::NextVersion() {
+  if (db_->dialect() != SqlDialect::kPostgres) return ++version_;
+  auto query = db_->Query("SELECT nextval('job_version')");
+  query.Step();
+  return version_ = std::max(version_, static_cast<uint64_t>(query.Int(0)));
+}
+
+void JobQueue::Touch(int64_t seq) { db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", NextVersion(), seq); }
+
+void JobQueue::HeardOfChange(const std::string& payload) {
+  std::lock_guard lock(mu_);
+  uint64_t version = 0;
+  if (std::from_chars(payload.data(), payload.data() + payload.size(), version).ec != std::errc()) {
+    try {
+      version = StoredVersion();  // notifications were missed: read where the store is
+    } catch (const Error& error) {
+      spdlog::warn("job queue: cannot read the store's version: {}", error.what());
+    }
+  }
+  version_ = std::max(version_, version);
+  changed_.notify_all();
 }
 
 void JobQueue::WriteLog(int64_t seq, const std::string& line) {
@@ -949,7 +993,7 @@ std::vector<v1::Job> JobQueue::Delete(const std::vector<std::string>& ids) {
     db_->Run("DELETE FROM leases WHERE job_seq = ?", seq);  // tokens still only grow (AUTOINCREMENT)
     db_->Run("DELETE FROM jobs WHERE seq = ?", seq);
   }
-  ++version_;
+  NextVersion();
   txn.Commit();
   return deleted;
 }
@@ -1066,15 +1110,17 @@ std::optional<uint64_t> JobQueue::WaitForChange(const std::string& id, uint64_t 
                                                 std::chrono::steady_clock::time_point deadline) const {
   std::unique_lock lock(mu_);
   const std::optional<int64_t> seq = id.empty() ? std::nullopt : std::optional(RequireRow(id).seq);
+  uint64_t job_version = 0;  // another server's change may be read before this one hears of it
   const auto changed = [&] {
     if (!seq) return version_ > seen_version;
     auto query = db_->Query("SELECT version FROM jobs WHERE seq = ?", *seq);
-    return query.Step() && static_cast<uint64_t>(query.Int(0)) > seen_version;
+    job_version = query.Step() ? static_cast<uint64_t>(query.Int(0)) : 0;
+    return job_version > seen_version;
   };
   if (!changed_.wait_until(lock, deadline, [&] { return shutdown_ || changed(); }) || shutdown_) {
     return std::nullopt;
   }
-  return version_;
+  return std::max(version_, job_version);
 }
 
 void JobQueue::OnJobEnded(std::function<void(const std::string& id, v1::JobKind kind)> listener) {

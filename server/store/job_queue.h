@@ -19,7 +19,8 @@
 //   on the job again, and a job never completes twice.
 // - A lease ends by Complete, Fail, HandBack, expiry (no heartbeat before the deadline),
 //   being stuck (heartbeats, but progress has not moved for `stuck_after_ms`), or a
-//   server restart (every LEASED/RUNNING job is requeued when the queue is opened).
+//   server restart on SQLite (every LEASED/RUNNING job is requeued when the queue is
+//   opened; on PostgreSQL leases outlive a server, as other servers may serve them).
 //   Every way but Complete and HandBack is a failed attempt: the job is requeued while
 //   attempts < max_attempts, otherwise it ends FAILED with the last error. A
 //   failure the worker knows to be permanent (bad input) ends the job FAILED at once.
@@ -36,8 +37,9 @@
 // worker's lines from AppendLog.
 //
 // Thread-safe: one connection behind one mutex. One process per SQLite data
-// directory; several queues on one PostgreSQL lease each job once (their writes take
-// turns), though a queue opened there still requeues every lease, as one server's.
+// directory. Any number of queues (servers) on one PostgreSQL: their writes take
+// turns, so each job is leased once, and each hears of the others' commits
+// (SqlDb::Listen), so a waiter on one wakes for a change made through another.
 
 #include <array>
 #include <chrono>
@@ -58,6 +60,7 @@
 namespace loom::server {
 
 class SqlDb;
+class SqlListener;
 
 struct JobQueueOptions {
   // A lease lasts this long after Lease and after each Heartbeat.
@@ -266,8 +269,8 @@ class JobQueue {
 
   // --- Watching -----------------------------------------------------------------
 
-  // A counter that increases with every change to any job (state, progress, log).
-  // Not persisted: it is only meaningful within one process.
+  // A counter that increases with every change to any job (state, progress, log):
+  // on SQLite this process's, on PostgreSQL one sequence for every server on the store.
   uint64_t Version() const;
 
   // Waits until job `id` (any job if `id` is empty) has changed after `seen_version`
@@ -321,7 +324,12 @@ class JobQueue {
   void WriteLog(int64_t seq, const std::string& line);
   // SQL for the byte length of job_log's text column, in the database's dialect.
   std::string TextBytes() const;
-  void Touch(int64_t seq);  // bumps version_ and the job's version
+  void Touch(int64_t seq);  // gives the job the next version
+  // The last version stored; the next one (raising version_ to it).
+  uint64_t StoredVersion() const;
+  uint64_t NextVersion();
+  // Another server's commit reached `payload` ("": unknown, read the store).
+  void HeardOfChange(const std::string& payload);
 
   const Clock& clock_;
   const JobQueueOptions options_;
@@ -337,6 +345,8 @@ class JobQueue {
   bool shutdown_ = false;
   // Counted by the open Txn, added to counters_ once it commits.
   QueueCounters pending_, counters_;
+  // Last: stopped before anything it touches is destroyed. Null on SQLite.
+  std::unique_ptr<SqlListener> listener_;
 };
 
 }  // namespace loom::server

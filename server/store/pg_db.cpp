@@ -9,18 +9,12 @@
 #include <cstring>
 
 #include "core/util/error.h"
+#include "server/store/pg_listener.h"
 
 namespace loom::server {
 namespace {
 
 constexpr Oid kByteaOid = 17;
-
-// The first line of a libpq message, without its trailing newline.
-std::string FirstLine(const char* message) {
-  std::string line = message ? message : "";
-  line = line.substr(0, line.find('\n'));
-  return line;
-}
 
 // "host:port/database" of a connection, for messages.
 std::string Where(const PGconn* conn) {
@@ -38,6 +32,11 @@ int HexValue(char c) {
 }
 
 }  // namespace
+
+std::string PgMessageLine(const char* message) {
+  std::string line = message ? message : "";
+  return line.substr(0, line.find('\n'));
+}
 
 std::string ToPgPlaceholders(std::string_view sql) {
   std::string out;
@@ -112,18 +111,18 @@ std::string PgRows::Text(int column) const {
   return bytes;
 }
 
-PgDb::PgDb(const std::string& conninfo) {
+PgDb::PgDb(const std::string& conninfo) : conninfo_(conninfo) {
   conn_ = PQconnectdb(conninfo.c_str());
   if (!conn_) throw Error(ErrorCode::kUnavailable, "PostgreSQL: out of memory connecting");
   where_ = Where(conn_);
   if (PQstatus(conn_) != CONNECTION_OK) {
-    const std::string message = FirstLine(PQerrorMessage(conn_));
+    const std::string message = PgMessageLine(PQerrorMessage(conn_));
     PQfinish(conn_);
     conn_ = nullptr;
     throw Error(ErrorCode::kUnavailable, "PostgreSQL at " + where_ + ": cannot connect: " + message);
   }
   PQsetNoticeProcessor(
-      conn_, [](void*, const char* message) { spdlog::debug("PostgreSQL: {}", FirstLine(message)); }, nullptr);
+      conn_, [](void*, const char* message) { spdlog::debug("PostgreSQL: {}", PgMessageLine(message)); }, nullptr);
   SetUpSession();
 }
 
@@ -138,7 +137,7 @@ void PgDb::Reconnect() {
   PQreset(conn_);
   if (PQstatus(conn_) != CONNECTION_OK) {
     throw Error(ErrorCode::kUnavailable,
-                "PostgreSQL at " + where_ + ": connection lost: " + FirstLine(PQerrorMessage(conn_)));
+                "PostgreSQL at " + where_ + ": connection lost: " + PgMessageLine(PQerrorMessage(conn_)));
   }
   broken_ = false;
   SetUpSession();
@@ -150,7 +149,7 @@ PgDb::~PgDb() {
 
 void PgDb::Fail(pg_result* result, std::string_view sql) {
   const char* state = result ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
-  const std::string message = FirstLine(result ? PQresultErrorMessage(result) : PQerrorMessage(conn_));
+  const std::string message = PgMessageLine(result ? PQresultErrorMessage(result) : PQerrorMessage(conn_));
   const std::string sqlstate = state ? state : "";
   if (result) PQclear(result);
   const std::string what = fmt::format("PostgreSQL at {}: {} (in: {})", where_, message, sql.substr(0, 200));
@@ -204,6 +203,15 @@ std::unique_ptr<SqlRows> PgDb::Execute(std::string_view sql, const std::vector<S
   const char* changed = PQcmdTuples(result);
   changes_ = changed && *changed ? std::strtoll(changed, nullptr, 10) : 0;
   return std::make_unique<PgRows>(result);
+}
+
+void PgDb::Notify(std::string_view channel, std::string_view payload) {
+  Run("SELECT pg_notify(?, ?)", channel, payload);
+}
+
+std::unique_ptr<SqlListener> PgDb::Listen(const std::string& channel,
+                                          std::function<void(const std::string& payload)> on_notify) {
+  return std::make_unique<PgListener>(conninfo_, channel, std::move(on_notify));
 }
 
 void PgDb::Begin() {

@@ -23,6 +23,9 @@ struct pg_result;
 
 namespace loom::server {
 
+// The first line of a libpq message, without its trailing newline.
+std::string PgMessageLine(const char* message);
+
 // SQLite's placeholders in `sql` as PostgreSQL's: `?` -> $1, $2, … in order, `?N` -> $N;
 // none inside quoted literals or identifiers.
 std::string ToPgPlaceholders(std::string_view sql);
@@ -63,6 +66,11 @@ class PgDb final : public SqlDb {
   void Exec(std::string_view sql) override;
   std::unique_ptr<SqlRows> Execute(std::string_view sql, const std::vector<SqlValue>& values) override;
   int64_t Changes() const override { return changes_; }
+  // pg_notify, delivered at commit; Listen is a PgListener (pg_listener.h) on a
+  // connection of its own.
+  void Notify(std::string_view channel, std::string_view payload) override;
+  std::unique_ptr<SqlListener> Listen(const std::string& channel,
+                                      std::function<void(const std::string& payload)> on_notify) override;
 
   // "host:port/database" for messages: never the password.
   const std::string& where() const { return where_; }
@@ -81,6 +89,7 @@ class PgDb final : public SqlDb {
   // Throws the Error for a failed `result` (freed) of `sql`.
   [[noreturn]] void Fail(pg_result* result, std::string_view sql);
 
+  const std::string conninfo_;  // for the listeners' connections
   pg_conn* conn_ = nullptr;
   bool broken_ = false;  // the connection failed: make it again before the next statement
   int64_t changes_ = 0;

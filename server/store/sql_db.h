@@ -4,11 +4,13 @@
 // written with SQLite's placeholders (`?` in order, or `?N`) and values bind by
 // type; rows are read by column; a writer transaction is one at a time across every
 // process on the database, as SQLite's BEGIN IMMEDIATE is. Where the dialects differ
-// (schema, a few functions), the store asks dialect().
+// (schema, a few functions), the store asks dialect(). Processes sharing a database
+// tell each other of their commits through Notify and Listen.
 //
 // Not thread-safe: each owner serialises access with its own mutex.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -67,6 +69,13 @@ class SqlQuery {
 
 enum class SqlDialect { kSqlite, kPostgres };
 
+// What SqlDb::Listen returns: notifications arrive while it lives, and never after
+// its destructor returned.
+class SqlListener {
+ public:
+  virtual ~SqlListener() = default;
+};
+
 class SqlDb {
  public:
   virtual ~SqlDb() = default;
@@ -86,6 +95,16 @@ class SqlDb {
   void Run(std::string_view sql, const Args&... args) {
     Query(sql, args...).Run();
   }
+
+  // Sends `payload` on `channel` to every listener of this database, in any process,
+  // once the open transaction commits (at once outside one).
+  virtual void Notify(std::string_view channel, std::string_view payload) = 0;
+  // Calls `on_notify` with each payload sent on `channel`, in order, on a thread of
+  // its own; with "" after notifications may have been missed (a lost connection
+  // made again). Null where the database is one process's (SQLite): that process
+  // knows its own commits.
+  virtual std::unique_ptr<SqlListener> Listen(const std::string& channel,
+                                              std::function<void(const std::string& payload)> on_notify) = 0;
 
   // A writer transaction, rolled back unless committed.
   class Transaction {

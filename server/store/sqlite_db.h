@@ -58,6 +58,11 @@ class SqliteDb final : public SqlDb {
   void Exec(std::string_view sql) override;
   std::unique_ptr<SqlRows> Execute(std::string_view sql, const std::vector<SqlValue>& values) override;
   int64_t Changes() const override;
+  // One process per database: no one else to tell.
+  void Notify(std::string_view, std::string_view) override {}
+  std::unique_ptr<SqlListener> Listen(const std::string&, std::function<void(const std::string&)>) override {
+    return nullptr;
+  }
 
  protected:
   void Begin() override;  // BEGIN IMMEDIATE: the write lock now, not at the first write

@@ -52,26 +52,49 @@ TEST_F(ServiceTest, SecondServerOnAPortInUseFailsToStart) {
   std::filesystem::remove_all(options.data_dir);
 }
 
-TEST_F(ServiceTest, ASecondServerOnOnePostgresStoreIsRefusedAndABadStoreNamesTheFlag) {
+// Two servers on one PostgreSQL and one data directory (a shared volume) are one
+// service: a job submitted through one is run by a worker of the other and watched
+// through either; the fabric it made is in both one's cache.
+TEST_F(ServiceTest, TwoServersOnOnePostgresStoreAreOneService) {
   ServerOptions options;
   options.local_workers = 0;
   options.store = FreshPostgresDatabase();
   StartServer(options);
-  client::JobClient client = Client();
-  const std::string id = client.Submit(PrecomputeRequest()).job().id();
-  options.data_dir = data_dir_.string() + "-second";
+  options.data_dir = data_dir_;
   options.listen = "127.0.0.1:0";
-  try {
-    LoomServer second(options);
-    FAIL() << "a second server started on the same store";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kFailedPrecondition);
-    EXPECT_THAT(e.what(), HasSubstr("--store: the PostgreSQL store at "));
-    EXPECT_THAT(e.what(), HasSubstr("is in use by another loom-server"));
-  }
-  // Nothing stored was lost; the job is the PostgreSQL store's, not a data directory's.
-  EXPECT_EQ(client.Get(id).state(), v1::JOB_STATE_QUEUED);
-  EXPECT_FALSE(std::filesystem::exists(data_dir_ / "jobs.db"));
+  options.lease_seconds = 3;
+  LoomServer second(options);
+  client::JobClient first_client = Client();
+  client::JobClient second_client(rpc::MakeChannel(Channel(second, "")));
+
+  const std::string id = first_client.Submit(PrecomputeRequest()).job().id();
+  EXPECT_EQ(second_client.Get(id).state(), v1::JOB_STATE_QUEUED);
+  std::future<v1::Job> watched_through_first =
+      std::async(std::launch::async, [&] { return WaitUntilEnded(first_client, id); });
+  worker::WorkerOptions worker_options;
+  worker_options.lease_wait = std::chrono::milliseconds(500);
+  worker::WorkerLoop worker(rpc::MakeChannel(Channel(second, "")), worker_options);
+  std::thread thread([&worker] { worker.Run(); });
+  const v1::Job ended = WaitUntilEnded(second_client, id);
+  EXPECT_EQ(ended.state(), v1::JOB_STATE_SUCCEEDED) << ended.error();
+  EXPECT_EQ(watched_through_first.get().state(), v1::JOB_STATE_SUCCEEDED);
+  ASSERT_EQ(first_client.ListFabrics().fabrics_size(), 1);
+  EXPECT_EQ(first_client.ListFabrics().fabrics(0).fabric_key(), ended.fabric_key());
+
+  // A render through the first finds the fabric the second's worker made.
+  const v1::SubmitJobResponse render = first_client.Submit(RenderRequest(TinyScene(32, 24)));
+  EXPECT_EQ(render.dependencies_size(), 0);
+  EXPECT_EQ(WaitUntilEnded(first_client, render.job().id()).state(), v1::JOB_STATE_SUCCEEDED);
+  worker.Stop();
+  thread.join();
+  EXPECT_EQ(worker.completed_jobs(), 2u);
+}
+
+TEST_F(ServiceTest, AnUnreachableStoreIsUnavailableNamingTheFlag) {
+  ServerOptions options;
+  options.data_dir = std::filesystem::path(::testing::TempDir()) / "loom-unreachable-store";
+  options.listen = "127.0.0.1:0";
+  options.local_workers = 0;
   options.store = "host=/nonexistent port=1 dbname=loom connect_timeout=1";
   try {
     LoomServer bad(options);

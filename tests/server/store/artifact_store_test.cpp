@@ -25,6 +25,15 @@ int CountFiles(const fs::path& dir) {
   return count;
 }
 
+// Temp files under DATA/tmp, not counting the stores' own directories' lock files.
+int CountTempFiles(const fs::path& data_dir) {
+  int count = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(data_dir / "tmp")) {
+    count += entry.is_regular_file() && entry.path().filename() != ".lock";
+  }
+  return count;
+}
+
 // Every test with the catalogue in SQLite and in a real PostgreSQL
 // (postgres_server.h); the files under DATA either way.
 class ArtifactStoreTest : public ::testing::TestWithParam<SqlDialect> {
@@ -71,13 +80,13 @@ TEST_P(ArtifactStoreTest, PutThenReadRoundTripsUnderTheContentHash) {
 TEST_P(ArtifactStoreTest, StreamingWriterVerifiesThenCommits) {
   ArtifactWriter writer = store_->NewWriter();
   writer.Append("hel");
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 1);  // the upload lives under DATA/tmp until committed
+  EXPECT_EQ(CountTempFiles(dir_), 1);  // the upload lives under DATA/tmp until committed
   writer.Append("lo");
   EXPECT_EQ(writer.bytes(), 5u);
   EXPECT_FALSE(store_->Has(kHelloHash));
   EXPECT_EQ(writer.Commit(kHelloHash), kHelloHash);
   EXPECT_EQ(store_->Read(kHelloHash), "hello");
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_LOOM_ERROR(writer.Append("more"), ErrorCode::kFailedPrecondition, "already committed");
 }
 
@@ -88,13 +97,13 @@ TEST_P(ArtifactStoreTest, ChecksumMismatchStoresNothing) {
                     "checksum mismatch: expected " + kHelloHash);
   EXPECT_FALSE(store_->Has(kHelloHash));
   EXPECT_FALSE(store_->Has(Sha256Hex("hellO")));
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_EQ(store_->TotalBytes(), 0u);
 
   ArtifactWriter bad_expectation = store_->NewWriter();
   bad_expectation.Append("hello");
   EXPECT_LOOM_ERROR(bad_expectation.Commit("abc"), ErrorCode::kInvalidArgument, "expected checksum 'abc'");
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
 }
 
 TEST_P(ArtifactStoreTest, AbandonedUploadLeavesNoTempFile) {
@@ -102,7 +111,7 @@ TEST_P(ArtifactStoreTest, AbandonedUploadLeavesNoTempFile) {
     ArtifactWriter writer = store_->NewWriter();
     writer.Append("partial");
   }
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_EQ(store_->TotalBytes(), 0u);
 }
 
@@ -111,7 +120,7 @@ TEST_P(ArtifactStoreTest, TempLeftoversOfACrashAreRemovedOnOpen) {
   WriteFileAtomic(dir_ / "tmp" / "upload-123-0", "half an upload");
   WriteFileAtomic(dir_ / "tmp" / "nested" / "upload-123-1", "another");
   Reopen();
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_TRUE(fs::is_directory(dir_ / "tmp"));
   EXPECT_EQ(store_->Read(Sha256Hex("kept")), "kept");
 }
@@ -127,9 +136,9 @@ TEST_P(ArtifactStoreTest, KillDashNineMidUploadLosesOnlyTheUpload) {
         std::raise(SIGKILL);
       },
       ::testing::KilledBySignal(SIGKILL), "");
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 1);  // what the crash left
+  EXPECT_EQ(CountTempFiles(dir_), 1);  // what the crash left
   Reopen();
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_EQ(store_->Read(Sha256Hex("committed")), "committed");
   EXPECT_EQ(store_->TotalBytes(), 9u);
 }
@@ -242,8 +251,50 @@ TEST_P(ArtifactStoreTest, ConcurrentWritersOfSameAndDifferentContent) {
   }
   for (auto& thread : threads) thread.join();
   EXPECT_EQ(CountFiles(dir_ / "artifacts"), 81);
-  EXPECT_EQ(CountFiles(dir_ / "tmp"), 0);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
   EXPECT_EQ(store_->Read(Sha256Hex("shared content")), "shared content");
+}
+
+// Servers on one PostgreSQL share DATA (a volume): a store opened beside another
+// keeps the other's upload in flight, and writers in both, of the same content
+// and of their own, end with every artifact once, readable through either.
+TEST_P(ArtifactStoreTest, StoresSharingADataDirectoryKeepEachOthersUploadsAndWritesWhole) {
+  if (GetParam() != SqlDialect::kPostgres) GTEST_SKIP() << "one store per SQLite data directory";
+  ArtifactWriter in_flight = store_->NewWriter();
+  in_flight.Append("half of an ");
+  const std::unique_ptr<ArtifactStore> other = Open();
+  in_flight.Append("upload");
+  EXPECT_EQ(in_flight.Commit(Sha256Hex("half of an upload")), Sha256Hex("half of an upload"));
+
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      ArtifactStore& store = t % 2 ? *other : *store_;
+      for (int i = 0; i < 20; ++i) {
+        store.Put("shared " + std::to_string(i));
+        store.Put("thread " + std::to_string(t) + " item " + std::to_string(i));
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  EXPECT_EQ(CountFiles(dir_ / "artifacts"), 101);
+  EXPECT_EQ(CountTempFiles(dir_), 0);
+  uint64_t bytes = std::string("half of an upload").size();
+  for (int i = 0; i < 20; ++i) {
+    const std::string shared = "shared " + std::to_string(i);
+    EXPECT_EQ(other->Read(Sha256Hex(shared)), shared);
+    EXPECT_EQ(store_->Read(Sha256Hex(shared)), shared);
+    bytes += shared.size();
+    for (int t = 0; t < 4; ++t) bytes += ("thread " + std::to_string(t) + " item " + std::to_string(i)).size();
+  }
+  EXPECT_EQ(store_->TotalBytes(), bytes);
+  EXPECT_EQ(other->TotalBytes(), bytes);
+  // A pin through one keeps the artifact from the other's eviction.
+  const std::unique_ptr<ArtifactStore> tight = Open(/*budget_bytes=*/1);
+  store_->Pin(Sha256Hex("shared 3"), "job:x");
+  tight->Evict();
+  EXPECT_EQ(store_->Read(Sha256Hex("shared 3")), "shared 3");
+  EXPECT_EQ(other->TotalBytes(), 8u);
 }
 
 TEST_P(ArtifactStoreTest, BadHashesAreInvalidArgumentAndLoseNothing) {

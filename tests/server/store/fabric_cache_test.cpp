@@ -82,8 +82,12 @@ TEST_P(FabricCacheTest, PutGetListDelete) {
   ASSERT_EQ(listed.size(), 2u);
   EXPECT_EQ(listed[0].key, Key('b'));  // most recently used first
   EXPECT_EQ(listed[1].key, Key('a'));
+  EXPECT_EQ(cache_->Totals().fabrics, 2);
+  EXPECT_EQ(cache_->Totals().bytes, listed[0].total_bytes + listed[1].total_bytes);
 
   cache_->Delete(Key('a'));
+  EXPECT_EQ(cache_->Totals().fabrics, 1);
+  EXPECT_EQ(cache_->Totals().bytes, 27u);
   EXPECT_FALSE(cache_->Get(Key('a')).has_value());
   for (const auto& file : put.files) EXPECT_FALSE(artifacts_->Has(file.hash)) << file.name;
   EXPECT_EQ(artifacts_->TotalBytes(), 27u);  // b's files
