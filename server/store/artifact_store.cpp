@@ -131,7 +131,7 @@ ArtifactStore::ArtifactStore(const std::filesystem::path& data_dir, std::unique_
   std::error_code ec;
   std::filesystem::create_directories(artifacts_dir_, ec);
   CheckFilesystem(ec, "cannot create " + artifacts_dir_.string());
-  db_->Exec(kSchema);
+  CreateSchema(*db_, kSchema);
   std::vector<std::string> vanished;
   for (auto rows = db_->Query("SELECT hash FROM artifacts"); rows.Step();) {
     std::error_code missing;

@@ -48,7 +48,7 @@ void CheckFiles(const std::vector<FabricFile>& files) {
 
 FabricCache::FabricCache(ArtifactStore& artifacts, const Clock& clock) : artifacts_(artifacts), clock_(clock) {
   std::lock_guard lock(artifacts_.mu_);
-  artifacts_.db_->Exec(kSchema);
+  CreateSchema(*artifacts_.db_, kSchema);
 }
 
 std::optional<FabricEntry> FabricCache::FindLocked(const std::string& key) {

@@ -131,4 +131,13 @@ class SqlDb {
   virtual void Rollback() noexcept = 0;
 };
 
+// Runs `ddl` (CREATE … IF NOT EXISTS) in one writer transaction: processes opening a
+// shared database at once take turns, since PostgreSQL's IF NOT EXISTS does not
+// guard against a concurrent CREATE.
+inline void CreateSchema(SqlDb& db, std::string_view ddl) {
+  SqlDb::Transaction txn(db);
+  db.Exec(ddl);
+  txn.Commit();
+}
+
 }  // namespace loom::server

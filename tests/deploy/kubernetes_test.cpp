@@ -1,7 +1,9 @@
-// deploy/k8s against the code: the kustomization's manifests parse; every container's
-// image, flags, ports, probes and secrets match the code (container_checks.h); the
-// GPU worker asks for one GPU with the graphics capability; the server's data is a
-// PersistentVolumeClaim mounted at --data.
+// deploy/k8s against the code, as kubectl apply -k builds it (kustomization.h), for
+// the base (one server on SQLite) and postgresql/ (several servers on PostgreSQL):
+// every container's image, flags, ports, probes and secrets match the code
+// (container_checks.h); the GPU worker asks for one GPU with the graphics capability;
+// the server's data is a PersistentVolumeClaim mounted at --data, shared by every
+// server on PostgreSQL, whose --store reaches the PostgreSQL the overlay runs.
 
 #include <gtest/gtest.h>
 
@@ -10,6 +12,7 @@
 #include "binary_options.h"
 #include "container_checks.h"
 #include "deploy_files.h"
+#include "kustomization.h"
 
 namespace loom::deploy_test {
 namespace {
@@ -22,29 +25,37 @@ struct Workload {
   YAML::Node Pod() const { return manifest["spec"]["template"]["spec"]; }
   YAML::Node Container() const { return Pod()["containers"][0]; }
   std::vector<std::string> Args() const { return Strings(Container()["args"]); }
+  bool IsLoom() const { return LoomImages().count(ParseImageReference(Container()["image"].as<std::string>()).name); }
+  // The container's environment variable `name`: its value, or its secret as "secret/key".
+  std::string Env(const std::string& name) const {
+    for (const YAML::Node& variable : Container()["env"]) {
+      if (variable["name"].as<std::string>() != name) continue;
+      if (const YAML::Node ref = At(variable, {"valueFrom", "secretKeyRef"})) {
+        return ref["name"].as<std::string>() + "/" + ref["key"].as<std::string>();
+      }
+      return variable["value"].as<std::string>("");
+    }
+    return "";
+  }
 };
 
-class KubernetesTest : public ::testing::Test {
+// One kustomization's build (kustomization.h): its workloads, services and secrets.
+class Kubernetes : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const std::filesystem::path dir = DeployDir() / "k8s";
-    const auto kustomization = LoadYamlDocuments(dir / "kustomization.yaml");
-    ASSERT_EQ(kustomization.size(), 1u);
-    for (const std::string& resource : Strings(kustomization[0]["resources"])) {
-      ASSERT_TRUE(std::filesystem::exists(dir / resource)) << resource;
-      for (const YAML::Node& manifest : LoadYamlDocuments(dir / resource)) {
-        const std::string kind = manifest["kind"].as<std::string>();
-        if (kind == "Service") services_.push_back(manifest);
-        if (kind == "Deployment" || kind == "StatefulSet") workloads_.push_back({resource, manifest});
-      }
+  void Load(const std::string& dir) {
+    built_ = Kustomize(DeployDir() / dir);
+    for (const Manifest& manifest : built_.manifests) {
+      const std::string kind = manifest.Kind();
+      if (kind == "Service") services_.push_back(manifest.node);
+      if (kind == "Deployment" || kind == "StatefulSet") workloads_.push_back({manifest.file, manifest.node});
     }
-    for (const YAML::Node& generator : kustomization[0]["secretGenerator"]) {
-      std::set<std::string>& keys = secrets_[generator["name"].as<std::string>()];
-      for (const std::string& file : Strings(generator["files"])) {
-        const size_t equals = file.find('=');
-        keys.insert(equals == std::string::npos ? std::filesystem::path(file).filename().string() : file.substr(0, equals));
+    for (const auto& [name, secret] : built_.secrets) {
+      std::set<std::string>& keys = secrets_[name];
+      for (const auto& [key, value] : secret.literals) keys.insert(key);
+      for (const auto& [key, file] : secret.files) {
+        keys.insert(key);
         // Token files stay out of git (deploy/.gitignore: tokens/).
-        EXPECT_EQ(file.substr(equals + 1).rfind("tokens/", 0), 0u) << file;
+        EXPECT_EQ(file.rfind("tokens/", 0), 0u) << file;
       }
     }
     for (const YAML::Node& service : services_) service_names_.insert(service["metadata"]["name"].as<std::string>());
@@ -55,6 +66,12 @@ class KubernetesTest : public ::testing::Test {
       if (workload.Name() == name) return workload;
     }
     throw std::runtime_error("no workload " + name);
+  }
+  const YAML::Node* FindManifest(const std::string& kind, const std::string& name) const {
+    for (const Manifest& manifest : built_.manifests) {
+      if (manifest.Kind() == kind && manifest.Name() == name) return &manifest.node;
+    }
+    return nullptr;
   }
 
   // Keys of `secret_name` the volume exposes: its items, or all the secret's keys.
@@ -67,21 +84,56 @@ class KubernetesTest : public ::testing::Test {
     return keys;
   }
 
+  // Whether `service` selects `workload`'s pods.
+  static bool Selects(const YAML::Node& service, const Workload& workload) {
+    for (const auto& label : service["spec"]["selector"]) {
+      if (workload.manifest["spec"]["template"]["metadata"]["labels"][label.first.as<std::string>()].as<std::string>(
+              "") != label.second.as<std::string>()) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  Kustomized built_;
   std::vector<YAML::Node> services_;
   std::vector<Workload> workloads_;
   std::map<std::string, std::set<std::string>> secrets_;  // generated secret -> keys
   std::set<std::string> service_names_;
 };
 
-TEST_F(KubernetesTest, HasTheServerAGpuWorkerAndACpuWorker) {
+// The checks every kustomization passes: the base (one server on SQLite) and
+// postgresql/ (several servers on PostgreSQL).
+class KubernetesTest : public Kubernetes, public ::testing::WithParamInterface<std::string> {
+ protected:
+  void SetUp() override { Load(GetParam()); }
+};
+
+INSTANTIATE_TEST_SUITE_P(Kustomizations, KubernetesTest, ::testing::Values("k8s", "k8s/postgresql"),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           return info.param == "k8s" ? std::string("base") : std::string("postgresql");
+                         });
+
+class KubernetesBaseTest : public Kubernetes {
+ protected:
+  void SetUp() override { Load("k8s"); }
+};
+
+class KubernetesPostgresTest : public Kubernetes {
+ protected:
+  void SetUp() override { Load("k8s/postgresql"); }
+};
+
+TEST_F(KubernetesBaseTest, HasTheServerAGpuWorkerAndACpuWorker) {
   EXPECT_EQ(Find("loom-server").manifest["kind"].as<std::string>(), "StatefulSet");
   EXPECT_EQ(Find("loom-worker-gpu").manifest["kind"].as<std::string>(), "Deployment");
   EXPECT_EQ(Find("loom-worker-cpu").manifest["kind"].as<std::string>(), "Deployment");
   EXPECT_EQ(service_names_, std::set<std::string>{"loom-server"});
 }
 
-TEST_F(KubernetesTest, EveryContainerMatchesTheCode) {
+TEST_P(KubernetesTest, EveryContainerMatchesTheCode) {
   for (const Workload& workload : workloads_) {
+    if (!workload.IsLoom()) continue;  // PostgreSQL's: KubernetesPostgresTest
     ASSERT_EQ(workload.Pod()["containers"].size(), 1u) << workload.Where();
     const YAML::Node container = workload.Container();
     // `command` would replace the image's ENTRYPOINT (the binary the args are for).
@@ -108,27 +160,32 @@ TEST_F(KubernetesTest, EveryContainerMatchesTheCode) {
   }
 }
 
-TEST_F(KubernetesTest, ServicePortReachesTheServersPort) {
+TEST_P(KubernetesTest, ServicePortReachesTheServersPort) {
   const int port = DefaultServerPort();
-  const YAML::Node service = services_.at(0);
-  const YAML::Node service_port = service["spec"]["ports"][0];
+  const YAML::Node* service = FindManifest("Service", "loom-server");
+  ASSERT_TRUE(service);
+  const YAML::Node service_port = (*service)["spec"]["ports"][0];
   EXPECT_EQ(service_port["port"].as<int>(), port);
   const Workload& server = Find("loom-server");
-  // The selector picks the server's pods.
-  for (const auto& label : service["spec"]["selector"]) {
-    EXPECT_EQ(server.manifest["spec"]["template"]["metadata"]["labels"][label.first.as<std::string>()].as<std::string>(""),
-              label.second.as<std::string>());
-  }
+  EXPECT_TRUE(Selects(*service, server));
   const YAML::Node container_port = server.Container()["ports"][0];
   EXPECT_EQ(container_port["containerPort"].as<int>(), port);
   const std::string target = service_port["targetPort"].as<std::string>();
   EXPECT_TRUE(target == container_port["name"].as<std::string>("") || target == std::to_string(port)) << target;
-  EXPECT_EQ(server.manifest["spec"]["serviceName"].as<std::string>(), service["metadata"]["name"].as<std::string>());
+  if (server.manifest["kind"].as<std::string>() == "StatefulSet") {
+    EXPECT_EQ(server.manifest["spec"]["serviceName"].as<std::string>(), "loom-server");
+  }
 }
 
-TEST_F(KubernetesTest, SecretsReadAreGeneratedAndMounted) {
+TEST_P(KubernetesTest, SecretsReadAreGeneratedAndMounted) {
   ASSERT_FALSE(secrets_.empty());
   for (const Workload& workload : workloads_) {
+    for (const YAML::Node& variable : workload.Container()["env"]) {
+      const YAML::Node ref = At(variable, {"valueFrom", "secretKeyRef"});
+      if (!ref) continue;
+      EXPECT_TRUE(secrets_[ref["name"].as<std::string>()].count(ref["key"].as<std::string>()))
+          << workload.Where() << " reads " << ref["name"] << "/" << ref["key"] << ", which is not generated";
+    }
     std::map<std::string, YAML::Node> volumes;
     for (const YAML::Node& volume : workload.Pod()["volumes"]) {
       volumes.emplace(volume["name"].as<std::string>(), volume);
@@ -159,7 +216,7 @@ TEST_F(KubernetesTest, SecretsReadAreGeneratedAndMounted) {
   }
 }
 
-TEST_F(KubernetesTest, ServerDataIsAPersistentVolumeClaimAtDataDir) {
+TEST_F(KubernetesBaseTest, ServerDataIsAPersistentVolumeClaimAtDataDir) {
   const Workload& server = Find("loom-server");
   EXPECT_EQ(server.manifest["spec"]["replicas"].as<int>(), 1) << "one server per data directory";
   const std::string data = OptionValue(server.Args(), "--data").value_or("");
@@ -177,7 +234,7 @@ TEST_F(KubernetesTest, ServerDataIsAPersistentVolumeClaimAtDataDir) {
             server.Pod()["securityContext"]["runAsGroup"].as<std::string>());
 }
 
-TEST_F(KubernetesTest, GpuWorkerAsksForOneGpuWithGraphicsAndCpuWorkerForNone) {
+TEST_P(KubernetesTest, GpuWorkerAsksForOneGpuWithGraphicsAndCpuWorkerForNone) {
   const Workload& gpu = Find("loom-worker-gpu");
   EXPECT_EQ(At(gpu.Container(), {"resources", "limits", "nvidia.com/gpu"}).as<int>(0), 1);
   std::map<std::string, std::string> env;
@@ -192,6 +249,83 @@ TEST_F(KubernetesTest, GpuWorkerAsksForOneGpuWithGraphicsAndCpuWorkerForNone) {
   env.clear();
   for (const YAML::Node& variable : cpu.Container()["env"]) env[variable["name"].as<std::string>()] = variable["value"].as<std::string>();
   EXPECT_EQ(env["NVIDIA_VISIBLE_DEVICES"], "void");
+}
+
+TEST_F(KubernetesPostgresTest, SeveralServersShareOneVolumeBehindTheService) {
+  EXPECT_FALSE(FindManifest("StatefulSet", "loom-server")) << "the base's one-server StatefulSet is replaced";
+  const Workload& server = Find("loom-server");
+  EXPECT_EQ(server.manifest["kind"].as<std::string>(), "Deployment");
+  EXPECT_GE(server.manifest["spec"]["replicas"].as<int>(0), 2);
+  const YAML::Node* service = FindManifest("Service", "loom-server");
+  ASSERT_TRUE(service);
+  EXPECT_TRUE(Selects(*service, server));
+  // --data is one ReadWriteMany claim every server mounts.
+  const std::string data = OptionValue(server.Args(), "--data").value_or("");
+  std::string claim_name;
+  for (const YAML::Node& mount : server.Container()["volumeMounts"]) {
+    if (mount["mountPath"].as<std::string>() != data) continue;
+    for (const YAML::Node& volume : server.Pod()["volumes"]) {
+      if (volume["name"].as<std::string>() == mount["name"].as<std::string>()) {
+        claim_name = At(volume, {"persistentVolumeClaim", "claimName"}).as<std::string>("");
+      }
+    }
+  }
+  const YAML::Node* claim = FindManifest("PersistentVolumeClaim", claim_name);
+  ASSERT_TRUE(claim) << "--data " << data << " is not a claim the kustomization makes";
+  EXPECT_EQ(Strings((*claim)["spec"]["accessModes"]), std::vector<std::string>{"ReadWriteMany"});
+  EXPECT_EQ(server.Pod()["securityContext"]["fsGroup"].as<std::string>(""),
+            server.Pod()["securityContext"]["runAsGroup"].as<std::string>());
+}
+
+// --store is $(VAR) from the loom-store secret's uri, the password reaches libpq as
+// PGPASSWORD and PostgreSQL as POSTGRES_PASSWORD from one key, and the uri names the
+// in-cluster PostgreSQL's Service, port, user and database.
+TEST_F(KubernetesPostgresTest, TheStoreIsThePostgresTheOverlayRuns) {
+  const Workload& server = Find("loom-server");
+  const std::string store = OptionValue(server.Args(), "--store").value_or("");
+  ASSERT_TRUE(store.starts_with("$(") && store.ends_with(")")) << store;
+  const std::string uri_ref = server.Env(store.substr(2, store.size() - 3));
+  const size_t slash = uri_ref.find('/');
+  ASSERT_NE(slash, std::string::npos) << "--store's variable is not from a secret: " << uri_ref;
+  const std::string secret = uri_ref.substr(0, slash);
+  const std::string uri = built_.secrets[secret].literals[uri_ref.substr(slash + 1)];
+  const std::string password = secret + "/password";
+  EXPECT_EQ(server.Env("PGPASSWORD"), password);
+  EXPECT_TRUE(built_.secrets[secret].files.count("password")) << "the password comes from a file under tokens/";
+
+  // postgresql://USER@HOST:PORT/DB
+  const std::string prefix = "postgresql://";
+  ASSERT_TRUE(uri.starts_with(prefix)) << uri;
+  const std::string rest = uri.substr(prefix.size());
+  const size_t at = rest.find('@'), colon = rest.find(':', at), db_slash = rest.find('/', at);
+  ASSERT_TRUE(at != std::string::npos && colon != std::string::npos && db_slash != std::string::npos) << uri;
+  EXPECT_EQ(rest.find(':'), colon) << "no password in the uri: it is PGPASSWORD's";
+  const std::string user = rest.substr(0, at), host = rest.substr(at + 1, colon - at - 1),
+                    port = rest.substr(colon + 1, db_slash - colon - 1), database = rest.substr(db_slash + 1);
+
+  const YAML::Node* service = FindManifest("Service", host);
+  ASSERT_TRUE(service) << uri << " names no Service";
+  const Workload& postgres = Find("loom-postgres");
+  EXPECT_TRUE(Selects(*service, postgres));
+  const YAML::Node service_port = (*service)["spec"]["ports"][0];
+  EXPECT_EQ(service_port["port"].as<std::string>(), port);
+  const YAML::Node container_port = postgres.Container()["ports"][0];
+  EXPECT_EQ(service_port["targetPort"].as<std::string>(), container_port["name"].as<std::string>());
+  EXPECT_EQ(container_port["containerPort"].as<int>(), 5432);
+  EXPECT_EQ(postgres.Env("POSTGRES_USER"), user);
+  EXPECT_EQ(postgres.Env("POSTGRES_DB"), database);
+  EXPECT_EQ(postgres.Env("POSTGRES_PASSWORD"), password);
+  // Its data on its own claim, below the mount (PGDATA), as a non-root user.
+  const std::string pgdata = postgres.Env("PGDATA");
+  const YAML::Node claim = postgres.manifest["spec"]["volumeClaimTemplates"][0];
+  ASSERT_TRUE(claim);
+  bool on_claim = false;
+  for (const YAML::Node& mount : postgres.Container()["volumeMounts"]) {
+    on_claim |= mount["name"].as<std::string>() == claim["metadata"]["name"].as<std::string>() &&
+                pgdata.starts_with(mount["mountPath"].as<std::string>() + "/");
+  }
+  EXPECT_TRUE(on_claim) << "PGDATA " << pgdata;
+  EXPECT_TRUE(postgres.Pod()["securityContext"]["runAsNonRoot"].as<bool>(false));
 }
 
 }  // namespace

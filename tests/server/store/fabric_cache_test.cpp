@@ -2,8 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <latch>
+#include <mutex>
+#include <thread>
+
 #include "core/util/file_io.h"
 #include "core/util/sha256.h"
+#include "server/store/job_queue.h"
 #include "server/store/pg_db.h"
 #include "store_test_util.h"
 #include "tests/server/store/postgres_server.h"
@@ -55,6 +60,33 @@ class FabricCacheTest : public ::testing::TestWithParam<SqlDialect> {
 };
 
 INSTANTIATE_TEST_SUITE_P(Stores, FabricCacheTest, kBothStores, StoreName);
+
+// Servers starting at once on a new PostgreSQL store each create the tables they
+// need (artifacts, fabric index, queue): they take turns, and every one opens.
+TEST_P(FabricCacheTest, ServersOpeningANewStoreAtOnceAllOpen) {
+  if (GetParam() != SqlDialect::kPostgres) GTEST_SKIP() << "one server per SQLite data directory";
+  const std::string fresh = FreshPostgresDatabase();
+  constexpr int kServers = 6;
+  std::latch start(kServers);
+  std::mutex mu;
+  std::vector<std::string> errors;
+  std::vector<std::thread> servers;
+  for (int s = 0; s < kServers; ++s) {
+    servers.emplace_back([&] {
+      start.arrive_and_wait();
+      try {
+        ArtifactStore artifacts(dir_, std::make_unique<PgDb>(fresh));
+        FabricCache cache(artifacts, clock_);
+        JobQueue queue(std::make_unique<PgDb>(fresh), clock_);
+      } catch (const Error& error) {
+        std::lock_guard lock(mu);
+        errors.push_back(error.what());
+      }
+    });
+  }
+  for (auto& server : servers) server.join();
+  EXPECT_TRUE(errors.empty()) << errors.size() << " failed to open, the first: " << errors.front();
+}
 
 TEST_P(FabricCacheTest, PutGetListDelete) {
   const FabricEntry put = PutFabric(Key('a'), 'a');
