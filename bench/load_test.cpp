@@ -5,7 +5,8 @@
 // synthetic workers (processes of this binary: lease, upload a manifest, complete;
 // no rendering) that turn to the next server when theirs stops answering, and
 // --jobs precompute jobs of distinct fabrics submitted through the servers in turn
-// (a retry after a dead server keeps its client_request_id). With --kill, once half
+// (a retry after a dead server keeps its client_request_id), all at once or --rate a
+// second. With --kill, once half
 // the jobs have ended, one server and one worker are killed with SIGKILL.
 //
 // Checks: every job SUCCEEDED, none was completed twice (the workers log each
@@ -168,6 +169,7 @@ struct Config {
   int workers = 8;
   int jobs = 10'000;
   int submitters = 4;
+  double rate = 0;  // jobs/s submitted; 0: as fast as the servers take them
   bool kill = false;
   fs::path work;
 };
@@ -253,6 +255,10 @@ Result RunConfig(const Config& config, int server_count, const server::PostgresS
       std::vector<client::JobClient> own;
       for (const auto& address : addresses) own.emplace_back(rpc::MakeChannel(ChannelTo(address)));
       for (int i; (i = next++) < config.jobs;) {
+        // --rate: job i is due i / rate seconds after the start (a pace, not a synchronisation).
+        if (config.rate > 0) {
+          std::this_thread::sleep_until(submit_start + std::chrono::duration<double>(i / config.rate));
+        }
         try {
           OnAnyServer(own, dead, i, [&](client::JobClient& client) { return client.Submit(Job(i)); });
           ++submitted;
@@ -342,6 +348,8 @@ int Main(int argc, char** argv) {
   app.add_option("--workers", config.workers, "Synthetic worker processes")->check(CLI::Range(1, 256));
   app.add_option("--jobs", config.jobs, "Jobs per configuration")->check(CLI::Range(2, 1'000'000));
   app.add_option("--submitters", config.submitters, "Submitting threads")->check(CLI::Range(1, 64));
+  app.add_option("--rate", config.rate, "Jobs submitted per second (0: all at once, as fast as they are taken)")
+      ->check(CLI::Range(0.0, 1e6));
   app.add_flag("--kill", config.kill, "SIGKILL one server and one worker half way (with 2 servers or more)");
   app.add_option("--work", config.work, "Scratch directory (logs, data)")
       ->default_val(fs::temp_directory_path() / "loom-load-test");
@@ -370,13 +378,14 @@ int Main(int argc, char** argv) {
     const bool good = r.succeeded == config.jobs && r.twice == 0;
     all_good = all_good && good;
     std::printf(
-        "{\"servers\": %d, \"workers\": %d, \"jobs\": %d, \"killed_server_and_worker\": %s, \"succeeded\": %d, "
+        "{\"servers\": %d, \"workers\": %d, \"jobs\": %d, \"rate\": %g, \"killed_server_and_worker\": %s, "
+        "\"succeeded\": %d, "
         "\"completed_twice\": %d, \"completions_unrecorded\": %d, \"retried\": %d, \"submit_seconds\": %.2f, "
         "\"seconds\": %.2f, "
         "\"jobs_per_second\": %.1f, \"p50_ms\": %lld, \"p99_ms\": %lld, \"max_ms\": %lld, \"exactly_once\": %s}\n",
-        r.servers, config.workers, config.jobs, r.killed ? "true" : "false", r.succeeded, r.twice, r.unrecorded,
-        r.retried, r.submit_seconds, r.seconds, r.jobs_per_second, static_cast<long long>(r.p50_ms), static_cast<long long>(r.p99_ms),
-        static_cast<long long>(r.max_ms), good ? "true" : "false");
+        r.servers, config.workers, config.jobs, config.rate, r.killed ? "true" : "false", r.succeeded, r.twice, r.unrecorded,
+        r.retried, r.submit_seconds, r.seconds, r.jobs_per_second, static_cast<long long>(r.p50_ms),
+        static_cast<long long>(r.p99_ms), static_cast<long long>(r.max_ms), good ? "true" : "false");
     std::fflush(stdout);
   }
   return all_good ? 0 : 1;

@@ -5,17 +5,18 @@
 // stored at DATA/artifacts/<first two hex digits>/<hash>. Writes go to a temp file
 // in this process's own directory under DATA/tmp (own_temp_dir.h) and are renamed
 // into place only after the checksum is verified, so a reader never sees a partial
-// artifact; temp files left by a crash are removed when a store is next opened. Reads verify the checksum again: a file that rotted or
-// was tampered with is deleted and reported as kNotFound ("... was corrupt and has
-// been removed"), so the caller treats it as missing and recomputes or re-uploads.
+// artifact; temp files left by a crash are removed when a store is next opened.
+// Reads verify the checksum again: a file that rotted or was tampered with is
+// deleted and reported as kNotFound ("... was corrupt and has been removed"), so the
+// caller treats it as missing and recomputes or re-uploads.
 //
-// The catalogue (size, recency, pins) lives in SQLite (DATA/cache.db, WAL), not in
-// file times. Evict() removes least recently used artifacts until the total fits the
-// byte budget; an artifact with at least one pin is never evicted. Pins are named by
-// an owner and idempotent, so a retried or repeated Pin/Unpin is harmless: the
-// FabricCache pins its fabrics' files as "fabric:<key>"; the server pins a render
-// job's meshes as "job:<id>" until the job ends and its frames as "result:<id>" for
-// a while after (server/service_state.h).
+// The catalogue (size, recency, pins) lives in SQLite (DATA/cache.db, WAL) or in the
+// --store PostgreSQL, not in file times. Evict() removes least recently used
+// artifacts until the total fits the byte budget; an artifact with at least one pin
+// is never evicted. Pins are named by an owner and idempotent, so a retried or
+// repeated Pin/Unpin is harmless: the FabricCache pins its fabrics' files as
+// "fabric:<key>"; the server pins a render job's meshes as "job:<id>" until the job
+// ends and its frames as "result:<id>" for a while after (server/service_state.h).
 //
 // Several processes may share DATA (servers on one PostgreSQL catalogue, a shared
 // volume): the content-addressed files make concurrent writes of one artifact

@@ -440,8 +440,9 @@ std::string JobQueue::TextBytes() const {
 }
 
 uint64_t JobQueue::StoredVersion() const {
-  auto query = db_->Query(db_->dialect() == SqlDialect::kPostgres ? "SELECT " + kStoredPgVersion
-                                                                  : std::string("SELECT COALESCE(MAX(version), 0) FROM jobs"));
+  auto query = db_->Query(db_->dialect() == SqlDialect::kPostgres
+                              ? "SELECT " + kStoredPgVersion
+                              : std::string("SELECT COALESCE(MAX(version), 0) FROM jobs"));
   query.Step();
   return static_cast<uint64_t>(query.Int(0));
 }
