@@ -1,5 +1,7 @@
 // deploy/compose.yaml against the code: images, flags, ports, health checks and
-// secrets (tests/deploy/container_checks.h), the data volume, the GPU reservation.
+// secrets (tests/deploy/container_checks.h), the data volume, the GPU reservation;
+// and deploy/compose.postgresql.yaml on top of it: several servers on the PostgreSQL
+// it runs.
 
 #include <gtest/gtest.h>
 
@@ -131,6 +133,74 @@ TEST_F(ComposeTest, GpuWorkerReservesAGpuWithGraphicsAndCpuWorkerUsesLlvmpipe) {
   EXPECT_TRUE(HasFlag(Strings(cpu["command"]), "--software"));
   EXPECT_FALSE(At(cpu, {"deploy", "resources", "reservations", "devices"}));
   EXPECT_GE(At(cpu, {"deploy", "replicas"}).as<int>(0), 1);
+}
+
+// compose.postgresql.yaml over compose.yaml: the servers' command is compose.yaml's
+// with --store added, that store is the postgres service's database, and each port
+// the servers serve is published as a range of one host port per server.
+class ComposePostgresTest : public ComposeTest {
+ protected:
+  void SetUp() override {
+    ComposeTest::SetUp();
+    const auto documents = LoadYamlDocuments(DeployDir() / "compose.postgresql.yaml");
+    ASSERT_EQ(documents.size(), 1u);
+    over_ = documents[0];
+  }
+  YAML::Node over_;
+};
+
+TEST_F(ComposePostgresTest, TheServersRunComposeYamlsCommandWithTheStoreAdded) {
+  const YAML::Node server = over_["services"]["loom-server"];
+  std::vector<std::string> command = Strings(server["command"]);
+  ContainerSpec spec = Container("loom-server");
+  spec.where = "compose.postgresql.yaml services.loom-server";
+  spec.args = command;
+  for (const std::string& problem : ContainerProblems(spec)) ADD_FAILURE() << problem;
+  const auto store = std::find(command.begin(), command.end(), "--store");
+  ASSERT_NE(store, command.end());
+  command.erase(store, store + 2);
+  EXPECT_EQ(command, Strings(compose_["services"]["loom-server"]["command"]));
+  EXPECT_TRUE(At(server, {"environment", "PGPASSWORD"})) << "libpq's password";
+}
+
+TEST_F(ComposePostgresTest, TheStoreIsThePostgresService) {
+  const std::string store = OptionValue(Strings(over_["services"]["loom-server"]["command"]), "--store").value_or("");
+  // postgresql://USER@HOST:PORT/DB, no password (PGPASSWORD's).
+  const std::string prefix = "postgresql://";
+  ASSERT_TRUE(store.starts_with(prefix)) << store;
+  const std::string rest = store.substr(prefix.size());
+  const size_t at = rest.find('@'), colon = rest.find(':'), slash = rest.find('/');
+  ASSERT_TRUE(at != std::string::npos && colon > at && slash > colon && slash != std::string::npos) << store;
+  const YAML::Node postgres = over_["services"][rest.substr(at + 1, colon - at - 1)];
+  ASSERT_TRUE(postgres) << store << " names no service";
+  EXPECT_EQ(rest.substr(colon + 1, slash - colon - 1), "5432");
+  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_USER"}).as<std::string>(""), rest.substr(0, at));
+  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_DB"}).as<std::string>(""), rest.substr(slash + 1));
+  const std::string password_file = At(postgres, {"environment", "POSTGRES_PASSWORD_FILE"}).as<std::string>("");
+  ASSERT_TRUE(password_file.starts_with("/run/secrets/")) << password_file;
+  const std::string secret = password_file.substr(std::string("/run/secrets/").size());
+  EXPECT_EQ(Strings(postgres["secrets"]), std::vector<std::string>{secret});
+  EXPECT_EQ(At(over_, {"secrets", secret, "file"}).as<std::string>("").rfind("tokens/", 0), 0u);
+  EXPECT_TRUE(At(over_["services"]["loom-server"], {"depends_on", rest.substr(at + 1, colon - at - 1)}));
+}
+
+TEST_F(ComposePostgresTest, EachServedPortIsARangeOfOneHostPortPerServer) {
+  const YAML::Node server = over_["services"]["loom-server"];
+  const int replicas = At(server, {"deploy", "replicas"}).as<int>(0);
+  EXPECT_GE(replicas, 2);
+  const std::vector<std::string> command = Strings(server["command"]);
+  std::set<int> served = {DefaultServerPort(), SplitAddress(OptionValue(command, "--http").value_or("")).port,
+                          SplitAddress(OptionValue(command, "--metrics").value_or("")).port};
+  for (const std::string& mapping : Strings(server["ports"])) {
+    const size_t last = mapping.rfind(':');
+    const std::string host = mapping.substr(0, last);
+    const std::string range = host.substr(host.rfind(':') == std::string::npos ? 0 : host.rfind(':') + 1);
+    const size_t dash = range.find('-');
+    ASSERT_NE(dash, std::string::npos) << mapping << ": one host port for " << replicas << " servers";
+    EXPECT_EQ(std::stoi(range.substr(dash + 1)) - std::stoi(range.substr(0, dash)) + 1, replicas) << mapping;
+    EXPECT_EQ(served.erase(std::stoi(mapping.substr(last + 1))), 1u) << mapping << " publishes no port served";
+  }
+  EXPECT_TRUE(served.empty()) << served.size() << " served ports not published";
 }
 
 }  // namespace
