@@ -6,17 +6,32 @@
 #include <spdlog/spdlog.h>
 
 #include <condition_variable>
+#include <cstdio>
 #include <mutex>
 
 #include "core/util/cli_main.h"
+#include "core/util/error.h"
 #include "core/util/termination_signals.h"
 #include "core/version.h"
 #include "rpc/auth.h"
 #include "rpc/channel.h"
 #include "server/loom_server.h"
+#include "server/store/store_migration.h"
 
 namespace loom {
 namespace {
+
+// --migrate-from-sqlite: prints the rows copied by table.
+int MigrateStore(const std::string& data, const std::string& store) {
+  if (data.empty() || store.empty()) {
+    throw Error(ErrorCode::kInvalidArgument,
+                "--migrate-from-sqlite: needs --data (the SQLite store) and --store (the PostgreSQL to fill)");
+  }
+  for (const auto& [table, rows] : server::MigrateSqliteStore(data, store)) {
+    std::printf("%-20s %lld rows\n", table.c_str(), static_cast<long long>(rows));
+  }
+  return 0;
+}
 
 int Main(int argc, char** argv) {
   TerminationSignals signals;  // before any thread starts
@@ -91,7 +106,12 @@ int Main(int argc, char** argv) {
                  "EGL device index for the local workers' GL context (as loom-worker --probe reports it); default: "
                  "the best device, an NVIDIA GPU first")
       ->check(CLI::Range(0, 255));
+  bool migrate = false;
+  app.add_flag("--migrate-from-sqlite", migrate,
+               "Copy the SQLite store under --data (jobs.db, cache.db) into the --store PostgreSQL, which must be "
+               "empty, then exit; stop the server first (docs/operations.md \"PostgreSQL\")");
   if (const auto exit_code = ParseCommandLine(app, argc, argv)) return *exit_code;
+  if (migrate) return MigrateStore(data, options.store);
 
   options.data_dir = data;
   if (!client_token_file.empty()) options.client_token = rpc::ReadTokenFile(client_token_file);
