@@ -383,8 +383,8 @@ int Main(int argc, char** argv) {
         "\"completed_twice\": %d, \"completions_unrecorded\": %d, \"retried\": %d, \"submit_seconds\": %.2f, "
         "\"seconds\": %.2f, "
         "\"jobs_per_second\": %.1f, \"p50_ms\": %lld, \"p99_ms\": %lld, \"max_ms\": %lld, \"exactly_once\": %s}\n",
-        r.servers, config.workers, config.jobs, config.rate, r.killed ? "true" : "false", r.succeeded, r.twice, r.unrecorded,
-        r.retried, r.submit_seconds, r.seconds, r.jobs_per_second, static_cast<long long>(r.p50_ms),
+        r.servers, config.workers, config.jobs, config.rate, r.killed ? "true" : "false", r.succeeded, r.twice,
+        r.unrecorded, r.retried, r.submit_seconds, r.seconds, r.jobs_per_second, static_cast<long long>(r.p50_ms),
         static_cast<long long>(r.p99_ms), static_cast<long long>(r.max_ms), good ? "true" : "false");
     std::fflush(stdout);
   }

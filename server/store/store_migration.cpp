@@ -37,7 +37,8 @@ std::vector<Column> SharedColumns(SqlDb& sqlite, SqlDb& pg, const std::string& t
            "WHERE table_schema = current_schema() AND table_name = ? ORDER BY ordinal_position",
            table);
        pg_columns.Step();) {
-    auto in_sqlite = sqlite.Query("SELECT COUNT(*) FROM pragma_table_info(?) WHERE name = ?", table, pg_columns.Text(0));
+    auto in_sqlite =
+        sqlite.Query("SELECT COUNT(*) FROM pragma_table_info(?) WHERE name = ?", table, pg_columns.Text(0));
     in_sqlite.Step();
     if (in_sqlite.Int(0) > 0) columns.push_back({pg_columns.Text(0), pg_columns.Text(1), pg_columns.Text(2) == "YES"});
   }
