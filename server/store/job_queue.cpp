@@ -471,10 +471,12 @@ void JobQueue::HeardOfChange(const std::string& payload) {
 }
 
 void JobQueue::WriteLog(int64_t seq, const std::string& line) {
-  const std::string text = line.size() <= kMaxLogLineBytes
-                               ? line
-                               : line.substr(0, kMaxLogLineBytes) + " … (" +
-                                     std::to_string(line.size() - kMaxLogLineBytes) + " bytes cut)";
+  // Cut before a UTF-8 continuation byte: a character is never split (PostgreSQL's
+  // TEXT refuses half of one).
+  size_t cut = std::min(line.size(), kMaxLogLineBytes);
+  while (cut < line.size() && cut > 0 && (static_cast<unsigned char>(line[cut]) & 0xC0) == 0x80) --cut;
+  const std::string text =
+      cut == line.size() ? line : line.substr(0, cut) + " … (" + std::to_string(line.size() - cut) + " bytes cut)";
   db_->Run(
       "INSERT INTO job_log (job_seq, line, text) "
       "VALUES (?1, (SELECT COALESCE(MAX(line) + 1, 0) FROM job_log WHERE job_seq = ?1), ?2)",

@@ -888,6 +888,11 @@ TEST_P(JobQueueTest, ALogKeepsItsFirstAndLastBytesWithATruncatedLineBetween) {
   const auto last = queue_->Log(id, next).back();
   EXPECT_EQ(last.substr(0, 4096), std::string(4096, 'y'));
   EXPECT_NE(last.find("5904 bytes cut"), std::string::npos);
+  // …never inside a character: "é" is two bytes, the cut falls between them.
+  queue_->AppendLog(id, std::string(4095, 'z') + "é" + std::string(10, 'z'));
+  const auto whole = queue_->Log(id, next + 1).back();
+  EXPECT_EQ(whole.substr(0, 4096), std::string(4095, 'z') + " ");
+  EXPECT_NE(whole.find("12 bytes cut"), std::string::npos) << whole.substr(4000);
   EXPECT_LOOM_ERROR(Reopen(JobQueueOptions{.log_keep_bytes = 100}), ErrorCode::kInvalidArgument, "log_keep_bytes");
 }
 
