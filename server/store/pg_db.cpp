@@ -134,6 +134,11 @@ void PgDb::SetUpSession() {
 
 void PgDb::Reconnect() {
   if (PQstatus(conn_) == CONNECTION_OK && !broken_) return;
+  if (in_transaction_) {
+    // Run on a new connection, the rest of it would commit on its own.
+    throw Error(ErrorCode::kUnavailable,
+                "PostgreSQL at " + where_ + ": the connection was lost inside a transaction, which is rolled back");
+  }
   PQreset(conn_);
   if (PQstatus(conn_) != CONNECTION_OK) {
     throw Error(ErrorCode::kUnavailable,
@@ -216,6 +221,7 @@ std::unique_ptr<SqlListener> PgDb::Listen(const std::string& channel,
 
 void PgDb::Begin() {
   Exec("BEGIN");
+  in_transaction_ = true;
   try {
     // One key for the whole store: 'LOOM'.
     Exec("SELECT pg_advisory_xact_lock(1280266061)");
@@ -225,9 +231,15 @@ void PgDb::Begin() {
   }
 }
 
-void PgDb::Commit() { Exec("COMMIT"); }
+void PgDb::Commit() {
+  Exec("COMMIT");
+  in_transaction_ = false;
+}
 
 void PgDb::Rollback() noexcept {
+  const bool lost = broken_;
+  in_transaction_ = false;
+  if (lost) return;  // the transaction went with the connection; the next statement makes a new one
   try {
     Exec("ROLLBACK");
   } catch (const Error&) {

@@ -7,6 +7,9 @@
 // server cannot be reached or the connection is lost (naming the server, never the
 // password), and for a serialization failure or deadlock (the transaction may be
 // retried); kInternal otherwise. The connection stays usable after a failed statement.
+// A lost connection is made again at the next statement, but not inside the
+// transaction it was lost in: every statement of that one, its commit included, is
+// kUnavailable until it is rolled back.
 //
 // Not thread-safe: each owner serialises access with its own mutex.
 
@@ -84,7 +87,8 @@ class PgDb final : public SqlDb {
 
  private:
   void SetUpSession();
-  // A connection lost earlier is made again (kUnavailable if the server is still away).
+  // A connection lost earlier is made again (kUnavailable if the server is still away,
+  // or inside the transaction it was lost in).
   void Reconnect();
   // Throws the Error for a failed `result` (freed) of `sql`.
   [[noreturn]] void Fail(pg_result* result, std::string_view sql);
@@ -92,6 +96,7 @@ class PgDb final : public SqlDb {
   const std::string conninfo_;  // for the listeners' connections
   pg_conn* conn_ = nullptr;
   bool broken_ = false;  // the connection failed: make it again before the next statement
+  bool in_transaction_ = false;  // a connection lost inside one is made again only once it ended
   int64_t changes_ = 0;
   std::string where_;
 };

@@ -2,7 +2,8 @@
 // placeholders and every bound type round-trip, transactions roll back unless
 // committed, writers take turns across connections, errors name the statement and
 // leave the connection usable, rows leased with FOR UPDATE SKIP LOCKED go to one
-// connection each, and a server that went away is kUnavailable until it is back.
+// connection each, and a server that went away is kUnavailable until it is back
+// (until the transaction it was lost in ended).
 
 #include "server/store/pg_db.h"
 
@@ -152,6 +153,30 @@ TEST_F(PgDbTest, AServerThatWentAwayIsUnavailableUntilItIsBack) {
   // The same PgDb reconnects on its next statement.
   db->Run("INSERT INTO t VALUES (1)");
   EXPECT_EQ(db->Changes(), 1);
+}
+
+// A transaction whose connection was lost is lost: the statements after it, its
+// commit included, are kUnavailable, never run on a new connection as if nothing
+// happened; the next transaction reconnects.
+TEST_F(PgDbTest, AConnectionLostInsideATransactionFailsItToTheEnd) {
+  auto db = Connect();
+  db->Exec("CREATE TABLE t (v INT)");
+  {
+    SqlDb::Transaction txn(*db);
+    db->Run("INSERT INTO t VALUES (1)");
+    server_->Kill();
+    EXPECT_LOOM_ERROR(db->Run("INSERT INTO t VALUES (2)"), ErrorCode::kUnavailable, "PostgreSQL at ");
+    server_->Restart();
+    EXPECT_LOOM_ERROR(db->Run("INSERT INTO t VALUES (3)"), ErrorCode::kUnavailable, "lost inside a transaction");
+    EXPECT_LOOM_ERROR(txn.Commit(), ErrorCode::kUnavailable, "lost inside a transaction");
+  }
+  SqlDb::Transaction again(*db);
+  db->Run("INSERT INTO t VALUES (4)");
+  again.Commit();
+  auto rows = db->Query("SELECT COUNT(*), MAX(v) FROM t");
+  rows.Step();
+  EXPECT_EQ(rows.Int(0), 1);
+  EXPECT_EQ(rows.Int(1), 4);
 }
 
 TEST(PgDbConnect, ABadConnectionStringIsUnavailableWithoutThePassword) {
