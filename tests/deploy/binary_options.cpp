@@ -113,6 +113,22 @@ HostPort SplitAddress(std::string_view address) {
   return result;
 }
 
+std::optional<PostgresUri> ParsePostgresUri(std::string_view uri) {
+  constexpr std::string_view kScheme = "postgresql://";
+  if (!uri.starts_with(kScheme)) return std::nullopt;
+  const std::string_view rest = uri.substr(kScheme.size());
+  const size_t at = rest.find('@');
+  const size_t slash = rest.find('/', at == std::string_view::npos ? 0 : at);
+  if (at == std::string_view::npos || slash == std::string_view::npos) return std::nullopt;
+  PostgresUri parsed{std::string(rest.substr(0, at)), SplitAddress(rest.substr(at + 1, slash - at - 1)),
+                     std::string(rest.substr(slash + 1))};
+  if (parsed.user.empty() || parsed.user.find(':') != std::string::npos || parsed.server.host.empty() ||
+      parsed.server.port <= 0 || parsed.database.empty()) {
+    return std::nullopt;
+  }
+  return parsed;
+}
+
 int DefaultServerPort() {
   const auto& defaults = LoomBinary("loom-server").defaults;
   const auto listen = defaults.find("--listen");

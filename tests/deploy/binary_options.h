@@ -41,6 +41,15 @@ struct HostPort {
 };
 HostPort SplitAddress(std::string_view address);
 
+// "postgresql://USER@HOST:PORT/DB" (a --store value) split; nullopt for anything
+// else, a password in it included (the deployments give it as PGPASSWORD).
+struct PostgresUri {
+  std::string user;
+  HostPort server;
+  std::string database;
+};
+std::optional<PostgresUri> ParsePostgresUri(std::string_view uri);
+
 // The server's default port, from loom-server --help (--listen's default).
 int DefaultServerPort();
 

@@ -165,23 +165,19 @@ TEST_F(ComposePostgresTest, TheServersRunComposeYamlsCommandWithTheStoreAdded) {
 
 TEST_F(ComposePostgresTest, TheStoreIsThePostgresService) {
   const std::string store = OptionValue(Strings(over_["services"]["loom-server"]["command"]), "--store").value_or("");
-  // postgresql://USER@HOST:PORT/DB, no password (PGPASSWORD's).
-  const std::string prefix = "postgresql://";
-  ASSERT_TRUE(store.starts_with(prefix)) << store;
-  const std::string rest = store.substr(prefix.size());
-  const size_t at = rest.find('@'), colon = rest.find(':'), slash = rest.find('/');
-  ASSERT_TRUE(at != std::string::npos && colon > at && slash > colon && slash != std::string::npos) << store;
-  const YAML::Node postgres = over_["services"][rest.substr(at + 1, colon - at - 1)];
+  const std::optional<PostgresUri> uri = ParsePostgresUri(store);
+  ASSERT_TRUE(uri) << store << ": not postgresql://USER@HOST:PORT/DB without a password";
+  const YAML::Node postgres = over_["services"][uri->server.host];
   ASSERT_TRUE(postgres) << store << " names no service";
-  EXPECT_EQ(rest.substr(colon + 1, slash - colon - 1), "5432");
-  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_USER"}).as<std::string>(""), rest.substr(0, at));
-  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_DB"}).as<std::string>(""), rest.substr(slash + 1));
+  EXPECT_EQ(uri->server.port, 5432);
+  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_USER"}).as<std::string>(""), uri->user);
+  EXPECT_EQ(At(postgres, {"environment", "POSTGRES_DB"}).as<std::string>(""), uri->database);
   const std::string password_file = At(postgres, {"environment", "POSTGRES_PASSWORD_FILE"}).as<std::string>("");
   ASSERT_TRUE(password_file.starts_with("/run/secrets/")) << password_file;
   const std::string secret = password_file.substr(std::string("/run/secrets/").size());
   EXPECT_EQ(Strings(postgres["secrets"]), std::vector<std::string>{secret});
   EXPECT_EQ(At(over_, {"secrets", secret, "file"}).as<std::string>("").rfind("tokens/", 0), 0u);
-  EXPECT_TRUE(At(over_["services"]["loom-server"], {"depends_on", rest.substr(at + 1, colon - at - 1)}));
+  EXPECT_TRUE(At(over_["services"]["loom-server"], {"depends_on", uri->server.host}));
 }
 
 TEST_F(ComposePostgresTest, EachServedPortIsARangeOfOneHostPortPerServer) {

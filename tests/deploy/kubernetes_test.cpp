@@ -293,27 +293,20 @@ TEST_F(KubernetesPostgresTest, TheStoreIsThePostgresTheOverlayRuns) {
   EXPECT_EQ(server.Env("PGPASSWORD"), password);
   EXPECT_TRUE(built_.secrets[secret].files.count("password")) << "the password comes from a file under tokens/";
 
-  // postgresql://USER@HOST:PORT/DB
-  const std::string prefix = "postgresql://";
-  ASSERT_TRUE(uri.starts_with(prefix)) << uri;
-  const std::string rest = uri.substr(prefix.size());
-  const size_t at = rest.find('@'), colon = rest.find(':', at), db_slash = rest.find('/', at);
-  ASSERT_TRUE(at != std::string::npos && colon != std::string::npos && db_slash != std::string::npos) << uri;
-  EXPECT_EQ(rest.find(':'), colon) << "no password in the uri: it is PGPASSWORD's";
-  const std::string user = rest.substr(0, at), host = rest.substr(at + 1, colon - at - 1),
-                    port = rest.substr(colon + 1, db_slash - colon - 1), database = rest.substr(db_slash + 1);
+  const std::optional<PostgresUri> parsed = ParsePostgresUri(uri);
+  ASSERT_TRUE(parsed) << uri << ": not postgresql://USER@HOST:PORT/DB without a password";
 
-  const YAML::Node* service = FindManifest("Service", host);
+  const YAML::Node* service = FindManifest("Service", parsed->server.host);
   ASSERT_TRUE(service) << uri << " names no Service";
   const Workload& postgres = Find("loom-postgres");
   EXPECT_TRUE(Selects(*service, postgres));
   const YAML::Node service_port = (*service)["spec"]["ports"][0];
-  EXPECT_EQ(service_port["port"].as<std::string>(), port);
+  EXPECT_EQ(service_port["port"].as<int>(), parsed->server.port);
   const YAML::Node container_port = postgres.Container()["ports"][0];
   EXPECT_EQ(service_port["targetPort"].as<std::string>(), container_port["name"].as<std::string>());
   EXPECT_EQ(container_port["containerPort"].as<int>(), 5432);
-  EXPECT_EQ(postgres.Env("POSTGRES_USER"), user);
-  EXPECT_EQ(postgres.Env("POSTGRES_DB"), database);
+  EXPECT_EQ(postgres.Env("POSTGRES_USER"), parsed->user);
+  EXPECT_EQ(postgres.Env("POSTGRES_DB"), parsed->database);
   EXPECT_EQ(postgres.Env("POSTGRES_PASSWORD"), password);
   // Its data on its own claim, below the mount (PGDATA), as a non-root user.
   const std::string pgdata = postgres.Env("PGDATA");
