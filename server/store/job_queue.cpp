@@ -454,7 +454,17 @@ uint64_t JobQueue::NextVersion() {
   return version_ = std::max(version_, static_cast<uint64_t>(query.Int(0)));
 }
 
-void JobQueue::Touch(int64_t seq) { db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", NextVersion(), seq); }
+void JobQueue::Touch(int64_t seq) {
+  if (db_->dialect() != SqlDialect::kPostgres) {
+    db_->Run("UPDATE jobs SET version = ? WHERE seq = ?", NextVersion(), seq);
+    return;
+  }
+  // The sequence's next value given and read back in one statement: one round trip
+  // less inside the writer lock every server waits on.
+  auto version =
+      db_->Query("UPDATE jobs SET version = nextval('job_version') WHERE seq = ? RETURNING version", seq);
+  if (version.Step()) version_ = std::max(version_, static_cast<uint64_t>(version.Int(0)));
+}
 
 void JobQueue::HeardOfChange(const std::string& payload) {
   std::lock_guard lock(mu_);
